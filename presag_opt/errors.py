@@ -1,0 +1,31 @@
+"""Exceptions raised by presag_opt.
+
+Every error a user can cause carries a message that names the offending field, its value, its unit
+and the valid range, so that the command line can print it as one line.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class PresagError(Exception):
+    """Base class of all presag_opt errors."""
+
+
+class ModelError(PresagError, ValueError):
+    """A system model, a setting or an argument is malformed or out of its valid range."""
+
+
+class ConvergenceError(PresagError, RuntimeError):
+    """A numerical solver did not converge; no partial result is returned.
+
+    Attributes
+    ----------
+    stats : dict
+        The solver's own statistics (for IPOPT: ``return_status``, iteration count, ...).
+    """
+
+    def __init__(self, message: str, stats: dict[str, Any] | None = None):
+        super().__init__(message)
+        self.stats = dict(stats or {})

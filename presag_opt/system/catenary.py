@@ -1,0 +1,340 @@
+"""Catenary system models: wires, droppers, supports, span layout and pre-sag.
+
+All values are SI inside these classes (N, m, kg, N/m, N·m²); model files and the command line may
+use kN, mm, ‰ and are converted on loading. Every class is frozen and keyword-only, and checks its
+fields on construction (see :mod:`presag_opt.system.quantity`).
+
+Sign convention: x along the track, y lateral (positive to the left looking in +x), z up.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from presag_opt.errors import ModelError
+from presag_opt.system.quantity import quantity, validate_fields
+
+GRAVITY = 9.81
+"""Acceleration due to gravity. [m/s²]"""
+
+
+@dataclass(frozen=True, kw_only=True)
+class Provenance:
+    """Where a number in a model file comes from.
+
+    Attributes
+    ----------
+    source : str
+        One of ``paper``, ``standard``, ``secondary-source``, ``assumed``.
+    note : str
+        Free text: table, page or reasoning.
+    """
+
+    source: str
+    note: str = ""
+
+
+@dataclass(frozen=True, kw_only=True)
+class Wire:
+    """A contact or messenger wire held at constant tension by balance weights.
+
+    Attributes
+    ----------
+    tension : float
+        Tension set by the balance weights (horizontal component). [N]
+    mass_per_length : float
+        Mass per metre. [kg/m]
+    axial_stiffness : float
+        EA. [N]
+    bending_stiffness : float
+        EI; zero makes a pure cable. [N·m²]
+    """
+
+    tension: float = quantity("force", 0.5, 60.0, display="kN")
+    mass_per_length: float = quantity("mass_per_length", 0.05, 5.0)
+    axial_stiffness: float = quantity("force", 0.1, 100.0, display="MN")
+    bending_stiffness: float = quantity("bending_stiffness", 0.0, 5000.0, default=0.0)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+
+    @property
+    def wave_speed(self) -> float:
+        """Transverse wave speed sqrt(T/ρ). [m/s]"""
+        return math.sqrt(self.tension / self.mass_per_length)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Droppers:
+    """Dropper placement and properties (the same rule in every span).
+
+    Placement is either explicit ``positions`` (distances from the span's first mast, used in every
+    span) or the rule: first and last dropper ``end_distance`` from the masts, the rest evenly spaced
+    no more than ``max_spacing`` apart.
+
+    Attributes
+    ----------
+    end_distance : float
+        Distance of the first and last dropper from the masts. [m]
+    max_spacing : float
+        Largest spacing between inner droppers. [m]
+    positions : tuple of float or None
+        Explicit positions from the first mast of each span. [m]
+    axial_stiffness : float or None
+        EA of the dropper; the spring stiffness is EA divided by the designed dropper length. [N]
+    stiffness : float or None
+        Spring stiffness in tension, independent of length (EN 50318 style). [N/m]
+    mass_per_length : float
+        Dropper wire mass per metre. [kg/m]
+    clamp_mass : float
+        Mass of each of the two clamps (on the contact and on the messenger wire). [kg]
+    """
+
+    end_distance: float = quantity("length", 0.5, 20.0, default=4.5)
+    max_spacing: float = quantity("length", 1.0, 30.0, default=8.5)
+    positions: tuple[float, ...] | None = quantity("length", 0.0, 100.0, low_open=True, default=None, allow_none=True)
+    axial_stiffness: float | None = quantity("force", 0.001, 100.0, display="MN", default=None, allow_none=True)
+    stiffness: float | None = quantity("stiffness", 1.0, 1e5, display="kN/m", default=None, allow_none=True)
+    mass_per_length: float = quantity("mass_per_length", 0.0, 1.0, default=0.0)
+    clamp_mass: float = quantity("mass", 0.0, 2.0, default=0.0)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+        if (self.axial_stiffness is None) == (self.stiffness is None):
+            raise ModelError(
+                "droppers: give exactly one of axial_stiffness (EA, in MN) or stiffness (spring, in kN/m)"
+            )
+        if self.positions is not None:
+            object.__setattr__(self, "positions", tuple(float(p) for p in self.positions))
+            if any(b <= a for a, b in zip(self.positions, self.positions[1:])):
+                raise ModelError(f"droppers.positions = {list(self.positions)} m must be strictly increasing")
+
+    def positions_in_span(self, span_length: float) -> np.ndarray:
+        """Dropper positions from the first mast of a span of the given length. [m]"""
+        if self.positions is not None:
+            pos = np.asarray(self.positions)
+            if pos[-1] >= span_length:
+                raise ModelError(
+                    f"droppers.positions: last dropper at {pos[-1]:g} m lies outside a span of {span_length:g} m"
+                )
+            return pos
+        inner = span_length - 2.0 * self.end_distance
+        if inner < 0.0:
+            raise ModelError(
+                f"droppers.end_distance = {self.end_distance:g} m does not fit a span of {span_length:g} m "
+                f"(needs span length >= {2 * self.end_distance:g} m)"
+            )
+        intervals = max(1, math.ceil(inner / self.max_spacing - 1e-9))
+        return self.end_distance + np.linspace(0.0, inner, intervals + 1)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SteadyArm:
+    """Steady arm: a link pivoting at the mast that registers the contact wire laterally.
+
+    Its vertical stiffness is not an input: it follows from the arm's tension, which the lateral
+    pull of the staggered (or curved) contact wire sets.
+
+    Attributes
+    ----------
+    length : float
+        Pivot-to-clamp length. [m]
+    mass : float
+        Arm mass; half of it acts at the contact-wire clamp. [kg]
+    axial_stiffness : float
+        EA of the arm tube. [N]
+    """
+
+    type: Literal["steady_arm"] = "steady_arm"
+    length: float = quantity("length", 0.3, 3.0)
+    mass: float = quantity("mass", 0.0, 10.0)
+    axial_stiffness: float = quantity("force", 0.1, 1000.0, display="MN", default=20e6)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpringSupport:
+    """A plain vertical spring with a lumped mass at the support (EN 50318 reference model style).
+
+    Attributes
+    ----------
+    stiffness : float
+        Vertical spring stiffness. [N/m]
+    mass : float
+        Lumped mass at the support point. [kg]
+    """
+
+    type: Literal["spring"] = "spring"
+    stiffness: float = quantity("stiffness", 1.0, 1e8, low_open=False)
+    mass: float = quantity("mass", 0.0, 50.0, default=0.0)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PinSupport:
+    """The messenger wire fixed laterally and vertically at the mast (free along the track)."""
+
+    type: Literal["pin"] = "pin"
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpanLayout:
+    """Span lengths of a tension section and, optionally, a curve radius per span.
+
+    Attributes
+    ----------
+    span_lengths : tuple of float
+        Length of each span, in order. [m]
+    curve_radii : tuple of float or None
+        Horizontal curve radius of each span, positive curving to the left (+y), negative to the
+        right, 0 for straight track. [m]
+    label : str
+        What the list is (e.g. that it is a stand-in for a list not published).
+    """
+
+    span_lengths: tuple[float, ...] = quantity("length", 5.0, 120.0)
+    curve_radii: tuple[float, ...] | None = quantity("length", -1e6, 1e6, default=None, allow_none=True)
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "span_lengths", tuple(float(v) for v in self.span_lengths))
+        validate_fields(self)
+        if len(self.span_lengths) < 3:
+            raise ModelError(
+                f"layout.span_lengths has {len(self.span_lengths)} spans; a section needs at least 3 "
+                "(the central span is analysed away from the terminations)"
+            )
+        if self.curve_radii is not None:
+            radii = tuple(float(v) for v in self.curve_radii)
+            object.__setattr__(self, "curve_radii", radii)
+            if len(radii) != len(self.span_lengths):
+                raise ModelError(
+                    f"layout.curve_radii has {len(radii)} values but there are {len(self.span_lengths)} spans"
+                )
+            for i, r in enumerate(radii):
+                if r != 0.0 and abs(r) < 100.0:
+                    raise ModelError(
+                        f"layout.curve_radii[{i}] = {r:g} m: a curve radius must be 0 (straight) or at least 100 m in size"
+                    )
+
+    @property
+    def n_spans(self) -> int:
+        """Number of spans."""
+        return len(self.span_lengths)
+
+    @property
+    def central_span(self) -> int:
+        """Index (from 0) of the span analysed by default: the middle one (the later of two)."""
+        return self.n_spans // 2
+
+    @property
+    def radii(self) -> tuple[float, ...]:
+        """Curve radius per span, 0 where straight. [m]"""
+        return self.curve_radii if self.curve_radii is not None else (0.0,) * self.n_spans
+
+
+@dataclass(frozen=True, kw_only=True)
+class Damping:
+    """Structural damping for dynamic analysis: a modal ratio, or Rayleigh coefficients.
+
+    Attributes
+    ----------
+    ratio : float or None
+        Damping ratio used to build Rayleigh damping over the band of interest. [-]
+    rayleigh_alpha : float or None
+        Mass-proportional coefficient. [1/s]
+    rayleigh_beta : float or None
+        Stiffness-proportional coefficient. [s]
+    """
+
+    ratio: float | None = quantity("ratio", 0.0, 0.5, default=None, allow_none=True)
+    rayleigh_alpha: float | None = quantity("frequency", 0.0, 50.0, display="1/s", default=None, allow_none=True)
+    rayleigh_beta: float | None = quantity("time", 0.0, 0.05, default=None, allow_none=True)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+        has_ratio = self.ratio is not None
+        has_rayleigh = self.rayleigh_alpha is not None or self.rayleigh_beta is not None
+        if has_ratio == has_rayleigh:
+            raise ModelError("damping: give either ratio, or rayleigh_alpha and rayleigh_beta")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Catenary:
+    """A simple catenary tension section.
+
+    Attributes
+    ----------
+    name : str
+        Display name.
+    contact_wire, messenger_wire : Wire
+        The two wires.
+    droppers : Droppers
+        Dropper rule and properties.
+    contact_wire_support : SteadyArm or SpringSupport
+        How the contact wire is held at each mast.
+    messenger_wire_support : PinSupport or SpringSupport
+        How the messenger wire is held at each mast.
+    layout : SpanLayout
+        Spans of the section.
+    contact_wire_height : float
+        Contact-wire height at the supports above the rail. [m]
+    system_height : float
+        Messenger above contact wire at the supports (encumbrance). [m]
+    stagger : float
+        Lateral offset of the contact wire at the masts, alternating in sign. [m]
+    presag_rel : float
+        Pre-sag as a fraction of span length (0.0005 = 0.5 ‰); each span's mid-span pre-sag is
+        presag_rel times its length (Swedish practice). [-]
+    damping : Damping or None
+        Structural damping for dynamic analysis.
+    provenance : dict
+        Dotted model-file key -> :class:`Provenance`.
+    """
+
+    name: str
+    contact_wire: Wire
+    messenger_wire: Wire
+    droppers: Droppers
+    contact_wire_support: SteadyArm | SpringSupport
+    messenger_wire_support: PinSupport | SpringSupport
+    layout: SpanLayout
+    contact_wire_height: float = quantity("length", 3.0, 8.0)
+    system_height: float = quantity("length", 0.2, 4.0)
+    stagger: float = quantity("length", 0.0, 0.5, default=0.0)
+    presag_rel: float = quantity("ratio", 0.0, 5.0, display="‰", default=0.0)
+    damping: Damping | None = None
+    provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+        shortest = min(self.layout.span_lengths)
+        positions = self.droppers.positions_in_span(shortest)
+        if len(positions) < 2:
+            raise ModelError(f"droppers: a span of {shortest:g} m gets fewer than two droppers")
+        if isinstance(self.contact_wire_support, SteadyArm) and self.stagger == 0.0 and not any(self.layout.radii):
+            raise ModelError(
+                "stagger = 0 m on straight track leaves a steady arm without lateral pull (it would have no "
+                "vertical stiffness); give a stagger in (0, 0.5] m or use a spring support"
+            )
+
+    def presag_of_span(self, span: int) -> float:
+        """Mid-span pre-sag of span ``span`` (from 0). [m]"""
+        return self.presag_rel * self.layout.span_lengths[span]
+
+    def with_presag(self, presag_rel: float) -> "Catenary":
+        """Copy with another relative pre-sag. [-]"""
+        return dataclasses.replace(self, presag_rel=presag_rel)
+
+    def with_layout(self, layout: SpanLayout) -> "Catenary":
+        """Copy with another span layout."""
+        return dataclasses.replace(self, layout=layout)
