@@ -1,0 +1,293 @@
+"""Contact-force statistics (EN 50367 / EN 50318 conventions) and wave-speed measures.
+
+The contact force is low-pass filtered at 20 Hz without phase shift; over an analysis window (the
+central spans, away from the ends of the model) the mean F_m, the standard deviation σ, σ/F_m, the
+statistical extremes F_m ± 3σ and the actual extremes of the filtered force are reported. Loss of
+contact is the share of time in the window with the raw (unfiltered) force at or below zero.
+
+Filter: Butterworth of order :data:`FILTER_ORDER` (4) with its -3 dB point at the cut-off, applied
+forward and backward (``scipy.signal.sosfiltfilt``): zero phase, magnitude response
+1/(1 + (f/f_c)^8), i.e. -6 dB at the cut-off and an effective order of 8. The whole record is
+filtered and the window cut out afterwards, so the filter's start-up lies outside the window when the
+window keeps away from the record ends.
+
+References
+----------
+EN 50367:2012+A1:2016, Railway applications - Current collection systems - Technical criteria for the
+interaction between pantograph and overhead line (filtering at 20 Hz, F_m, σ).
+EN 50318:2018, Railway applications - Current collection systems - Validation of simulation of the
+dynamic interaction between pantograph and overhead contact line.
+EN 50119:2020, Railway applications - Fixed installations - Electric traction overhead contact lines
+(speed not above 70 % of the wave propagation speed).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal
+
+from presag_opt.errors import ModelError
+
+CUTOFF_FREQUENCY = 20.0
+"""Low-pass cut-off of the contact force. [Hz]"""
+
+FILTER_ORDER = 4
+"""Order of the Butterworth low-pass (applied twice: forward and backward). [-]"""
+
+MIN_SAMPLES_PER_CUTOFF_PERIOD = 5
+"""Sampling must give at least this many samples per cut-off period (100 Hz for 20 Hz). [-]"""
+
+MIN_WINDOW_CUTOFF_PERIODS = 5
+"""The analysis window must span at least this many cut-off periods (0.25 s for 20 Hz). [-]"""
+
+SPEED_RATIO_WARNING = 0.7
+"""Speed ratio β above which a warning is issued (EN 50119 limit on v/c). [-]"""
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContactForceStatistics:
+    """Statistics of the filtered contact force over an analysis window.
+
+    Attributes
+    ----------
+    mean_force : float
+        Mean contact force F_m. [N]
+    std_force : float
+        Standard deviation σ (population, ddof = 0). [N]
+    statistical_max : float
+        F_m + 3σ. [N]
+    statistical_min : float
+        F_m - 3σ. [N]
+    max_force : float
+        Largest filtered force in the window. [N]
+    min_force : float
+        Smallest filtered force in the window. [N]
+    loss_of_contact : float
+        Share of the window's samples with raw force <= 0. [-]
+    window_start, window_end : float
+        The analysis window. [s]
+    """
+
+    mean_force: float
+    std_force: float
+    statistical_max: float
+    statistical_min: float
+    max_force: float
+    min_force: float
+    loss_of_contact: float
+    window_start: float
+    window_end: float
+
+    @property
+    def sigma_over_mean(self) -> float:
+        """σ / F_m. [-]"""
+        return self.std_force / self.mean_force
+
+    def to_dict(self) -> dict[str, float]:
+        """The statistics with units in the key names (forces in N, loss of contact in %)."""
+        return {
+            "Fm_N": self.mean_force,
+            "sigma_N": self.std_force,
+            "sigma_over_Fm": self.sigma_over_mean,
+            "stat_max_N": self.statistical_max,
+            "stat_min_N": self.statistical_min,
+            "max_N": self.max_force,
+            "min_N": self.min_force,
+            "loss_of_contact_pct": 100.0 * self.loss_of_contact,
+        }
+
+
+def lowpass_filter(time: np.ndarray, force: np.ndarray, *, cutoff: float = CUTOFF_FREQUENCY) -> np.ndarray:
+    """Zero-phase Butterworth low-pass of a uniformly sampled force signal.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Uniformly spaced sample times. [s]
+    force : numpy.ndarray
+        Force samples. [N]
+    cutoff : float
+        Cut-off frequency (-3 dB of the single pass). [Hz]
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered force. [N]
+
+    Raises
+    ------
+    ModelError
+        Mismatched lengths, non-uniform sampling, or sampling too coarse for the cut-off.
+    """
+    time, force = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
+    rate = _sampling_rate(time, force)
+    if rate < MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff:
+        raise ModelError(
+            f"sampling rate {rate:g} Hz is too coarse for a {cutoff:g} Hz low-pass: use at least "
+            f"{MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff:g} Hz (time step <= {1e3 / (MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff):g} ms)"
+        )
+    sos = signal.butter(FILTER_ORDER, cutoff, btype="low", fs=rate, output="sos")
+    return signal.sosfiltfilt(sos, force)
+
+
+def contact_force_statistics(
+    time: np.ndarray,
+    contact_force: np.ndarray,
+    *,
+    window_start: float,
+    window_end: float,
+    cutoff: float = CUTOFF_FREQUENCY,
+) -> ContactForceStatistics:
+    """EN 50367-style statistics of a contact-force record over an analysis window.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Uniformly spaced sample times of the whole record. [s]
+    contact_force : numpy.ndarray
+        Raw (unfiltered) contact force. [N]
+    window_start, window_end : float
+        Analysis window inside the record, e.g. the pantograph's passage over the central spans. [s]
+    cutoff : float
+        Low-pass cut-off frequency. [Hz]
+
+    Returns
+    -------
+    ContactForceStatistics
+        F_m, σ, F_m ± 3σ, filtered extremes and loss of contact.
+
+    Raises
+    ------
+    ModelError
+        A window outside the record or shorter than :data:`MIN_WINDOW_CUTOFF_PERIODS` cut-off
+        periods, or a record the filter cannot handle (see :func:`lowpass_filter`).
+    """
+    time = np.asarray(time, dtype=float)
+    raw = np.asarray(contact_force, dtype=float)
+    filtered = lowpass_filter(time, raw, cutoff=cutoff)
+    inside = _window_mask(time, window_start, window_end, cutoff)
+    window = filtered[inside]
+    mean, std = float(np.mean(window)), float(np.std(window))
+    return ContactForceStatistics(
+        mean_force=mean,
+        std_force=std,
+        statistical_max=mean + 3.0 * std,
+        statistical_min=mean - 3.0 * std,
+        max_force=float(np.max(window)),
+        min_force=float(np.min(window)),
+        loss_of_contact=float(np.mean(raw[inside] <= 0.0)),
+        window_start=window_start,
+        window_end=window_end,
+    )
+
+
+def _sampling_rate(time: np.ndarray, force: np.ndarray) -> float:
+    """Sampling rate of a uniformly sampled record. [Hz]"""
+    if time.ndim != 1 or time.shape != force.shape:
+        raise ModelError(f"time {time.shape} and force {force.shape} must be 1-D arrays of the same length")
+    if len(time) < 2:
+        raise ModelError("the record needs at least two samples")
+    steps = np.diff(time)
+    step = float(np.median(steps))
+    if step <= 0.0 or np.max(np.abs(steps - step)) > 1e-6 * step:
+        raise ModelError("time must be uniformly spaced and increasing (the filter assumes a constant sampling rate)")
+    return 1.0 / step
+
+
+def _window_mask(time: np.ndarray, start: float, end: float, cutoff: float) -> np.ndarray:
+    """Boolean mask of the samples in [start, end], after checking the window. [-]"""
+    shortest = MIN_WINDOW_CUTOFF_PERIODS / cutoff
+    tol = 1e-9 * max(1.0, abs(time[-1]))
+    if start < time[0] - tol or end > time[-1] + tol:
+        raise ModelError(
+            f"analysis window [{start:g}, {end:g}] s lies outside the record [{time[0]:g}, {time[-1]:g}] s"
+        )
+    if end - start < shortest:
+        raise ModelError(
+            f"analysis window [{start:g}, {end:g}] s is {end - start:g} s long; it must span at least "
+            f"{MIN_WINDOW_CUTOFF_PERIODS} periods of the {cutoff:g} Hz filter ({shortest:g} s)"
+        )
+    return (time >= start - tol) & (time <= end + tol)
+
+
+def wave_speed(tension: float, mass_per_length: float) -> float:
+    """Transverse wave propagation speed of a tensioned wire, c = sqrt(T / ρ).
+
+    Parameters
+    ----------
+    tension : float
+        Wire tension T. [N]
+    mass_per_length : float
+        Mass per metre ρ. [kg/m]
+
+    Returns
+    -------
+    float
+        Wave speed c. [m/s]
+    """
+    if not (tension > 0.0 and mass_per_length > 0.0):
+        raise ModelError(
+            f"tension = {tension!r} N and mass_per_length = {mass_per_length!r} kg/m must both be positive"
+        )
+    return math.sqrt(tension / mass_per_length)
+
+
+def speed_ratio(speed: float, wave_speed: float) -> float:
+    """Speed ratio β = v / c; warns above :data:`SPEED_RATIO_WARNING` (0.7).
+
+    Parameters
+    ----------
+    speed : float
+        Train speed v. [m/s]
+    wave_speed : float
+        Contact-wire wave speed c. [m/s]
+
+    Returns
+    -------
+    float
+        β. [-]
+
+    Raises
+    ------
+    ModelError
+        A negative speed, a non-positive wave speed, or a speed at or above the wave speed (the
+        contact wire cannot carry the pantograph's wave ahead of it: no steady solution).
+    """
+    if not wave_speed > 0.0:
+        raise ModelError(f"wave_speed = {wave_speed!r} m/s must be positive")
+    if not 0.0 <= speed < wave_speed:
+        raise ModelError(
+            f"speed = {speed * 3.6:g} km/h is outside the valid range [0, {wave_speed * 3.6:g}) km/h "
+            f"(below the contact-wire wave speed {wave_speed:g} m/s)"
+        )
+    beta = speed / wave_speed
+    if beta > SPEED_RATIO_WARNING:
+        warnings.warn(
+            f"speed ratio β = {beta:.2f} exceeds {SPEED_RATIO_WARNING} (EN 50119): wave reflections and the "
+            "Doppler effect dominate the interaction",
+            stacklevel=2,
+        )
+    return beta
+
+
+def doppler_factor(speed: float, wave_speed: float) -> float:
+    """Doppler factor (c - v)/(c + v) of waves reflected ahead of the pantograph.
+
+    Parameters
+    ----------
+    speed : float
+        Train speed v. [m/s]
+    wave_speed : float
+        Contact-wire wave speed c. [m/s]
+
+    Returns
+    -------
+    float
+        (1 - β)/(1 + β), in (0, 1]. [-]
+    """
+    beta = speed_ratio(speed, wave_speed)
+    return (1.0 - beta) / (1.0 + beta)

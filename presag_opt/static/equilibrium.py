@@ -1,0 +1,399 @@
+"""Form-finding and static equilibrium of a catenary section.
+
+:func:`form_find` computes the dropper lengths, steady-arm settings (and spring references) that put
+the contact wire at its target geometry under gravity, with both wires at their balance-weight
+tension, and returns the :class:`EquilibriumState`. :meth:`EquilibriumState.solve` re-solves the
+equilibrium under extra loads (droppers free to go slack) by Newton's method on the potential energy;
+:meth:`EquilibriumState.tangent_stiffness` gives the linear stiffness at the state.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.static.discretisation import (
+    CONTACT_WIRE,
+    DROPPER,
+    MESSENGER_WIRE,
+    STEADY_ARM,
+    Discretisation,
+    StaticSettings,
+    discretise,
+)
+from presag_opt.static.symbolic import PhysicalParameters, PotentialFunctions, build_potential, solve_form_finding
+from presag_opt.system.catenary import Catenary
+
+
+@dataclass(frozen=True)
+class StaticModel:
+    """A discretised catenary with its compiled potential-energy functions (built once, reused)."""
+
+    discretisation: Discretisation
+    functions: PotentialFunctions
+
+
+def static_model(catenary: Catenary, settings: StaticSettings | None = None) -> StaticModel:
+    """Discretise a catenary and build its CasADi functions (cached per catenary and settings)."""
+    return _static_model(catenary, settings or StaticSettings())
+
+
+@functools.lru_cache(maxsize=16)
+def _static_model(catenary: Catenary, settings: StaticSettings) -> StaticModel:
+    disc = discretise(catenary, settings)
+    return StaticModel(disc, build_potential(disc))
+
+
+@dataclass(frozen=True, kw_only=True)
+class DropperScheduleRow:
+    """One dropper as a line crew needs it.
+
+    Attributes
+    ----------
+    span : int
+        Span number, counted from 1 at the start of the section. [-]
+    position_m : float
+        Distance from the span's first mast. [m]
+    length_mm : float
+        Dropper length between the clamp points, unloaded (cut length), rounded to 1 mm. [mm]
+    installed_length_mm : float
+        Length between the clamp points under the static load. [mm]
+    force_N : float
+        Static tensile force. [N]
+    """
+
+    span: int
+    position_m: float
+    length_mm: float
+    installed_length_mm: float
+    force_N: float
+
+
+@dataclass(frozen=True)
+class EquilibriumState:
+    """A static equilibrium of a catenary section.
+
+    Attributes
+    ----------
+    model : StaticModel
+        Discretisation and compiled functions.
+    positions : ndarray, shape (n_nodes, 3)
+        Node coordinates. [m]
+    params : PhysicalParameters
+        Element lengths, stiffnesses and the external nodal forces of this state.
+    applied_load : ndarray
+        Nodal forces applied on top of gravity and the balance weights. [N]
+    iterations : int
+        Solver iterations that produced this state. [-]
+    """
+
+    model: StaticModel
+    positions: np.ndarray
+    params: PhysicalParameters
+    applied_load: np.ndarray
+    iterations: int = 0
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    # ----- derived quantities -------------------------------------------------------------------
+
+    @property
+    def discretisation(self) -> Discretisation:
+        """The discretisation."""
+        return self.model.discretisation
+
+    @property
+    def catenary(self) -> Catenary:
+        """The system model."""
+        return self.model.discretisation.catenary
+
+    def element_lengths(self) -> np.ndarray:
+        """Current length of every axial element. [m]"""
+        ax = self.discretisation.axial
+        return np.linalg.norm(self.positions[ax.node_b] - self.positions[ax.node_a], axis=1)
+
+    def axial_forces(self) -> np.ndarray:
+        """Tensile force of every axial element (zero in a slack dropper). [N]"""
+        stretch = self.element_lengths() - self.params.unstretched_length
+        force = self.params.axial_stiffness * stretch
+        slack = (self.params.slack_allowed > 0) & (force < 0)
+        return np.where(slack, 0.0, force)
+
+    def horizontal_tension(self, group: int) -> np.ndarray:
+        """Along-track component of the force in each element of a wire (group). [N]"""
+        ax = self.discretisation.axial
+        sel = ax.group == group
+        d = self.positions[ax.node_b[sel]] - self.positions[ax.node_a[sel]]
+        return self.axial_forces()[sel] * np.linalg.norm(d[:, :2], axis=1) / np.linalg.norm(d, axis=1)
+
+    def dropper_forces(self) -> np.ndarray:
+        """Tensile force of each dropper, in along-track order. [N]"""
+        return self.axial_forces()[self.discretisation.dropper_elements]
+
+    def dropper_lengths(self) -> np.ndarray:
+        """Current length of each dropper between its clamps. [m]"""
+        return self.element_lengths()[self.discretisation.dropper_elements]
+
+    def steady_arm_forces(self) -> np.ndarray:
+        """Tensile force of each steady arm. [N]"""
+        return self.axial_forces()[self.discretisation.arm_elements]
+
+    def steady_arm_angles(self) -> np.ndarray:
+        """Inclination of each steady arm, positive with the pivot above the clamp. [rad]"""
+        disc = self.discretisation
+        ax = disc.axial
+        d = self.positions[ax.node_b[disc.arm_elements]] - self.positions[ax.node_a[disc.arm_elements]]
+        return np.arctan2(d[:, 2], np.linalg.norm(d[:, :2], axis=1))
+
+    def cw_height(self, stations: np.ndarray | None = None) -> np.ndarray:
+        """Contact-wire height at along-track stations (at its nodes if None). [m]"""
+        disc = self.discretisation
+        z = self.positions[disc.cw_nodes, 2]
+        return z if stations is None else disc.cw_shape(stations) @ z
+
+    def dropper_schedule(self) -> list[DropperScheduleRow]:
+        """The dropper schedule: span, position, cut length and force of every dropper."""
+        disc = self.discretisation
+        lengths = self.dropper_lengths()
+        unstretched = self.params.unstretched_length[disc.dropper_elements]
+        forces = self.dropper_forces()
+        return [
+            DropperScheduleRow(
+                span=int(span) + 1,
+                position_m=float(pos),
+                length_mm=float(np.round(l0 * 1e3)),
+                installed_length_mm=float(length * 1e3),
+                force_N=float(f),
+            )
+            for span, pos, l0, length, f in zip(disc.dropper_span, disc.dropper_position, unstretched, lengths, forces)
+        ]
+
+    # ----- linear algebra -------------------------------------------------------------------------
+
+    def tangent_stiffness(self) -> sp.csc_matrix:
+        """Tangent stiffness on the free degrees of freedom at this state. [N/m]"""
+        if "stiffness" not in self._cache:
+            hess, _ = self.model.functions.hessian(self.positions.ravel(), self.params)
+            self._cache["stiffness"] = hess
+        return self._cache["stiffness"]
+
+    def factorised_stiffness(self):
+        """Sparse LU factorisation of :meth:`tangent_stiffness` (computed once per state)."""
+        if "lu" not in self._cache:
+            self._cache["lu"] = spla.splu(self.tangent_stiffness(), permc_spec="COLAMD")
+        return self._cache["lu"]
+
+    def out_of_balance(self) -> np.ndarray:
+        """Out-of-balance force on the free degrees of freedom. [N]"""
+        return self.model.functions.gradient(self.positions.ravel(), self.params)[self.model.functions.free_dofs]
+
+    # ----- re-solving ---------------------------------------------------------------------------
+
+    def solve(self, load: np.ndarray, start: "EquilibriumState | None" = None) -> "EquilibriumState":
+        """Equilibrium under an extra nodal load, droppers free to go slack.
+
+        Parameters
+        ----------
+        load : ndarray, shape (3 n_nodes,)
+            Extra nodal forces on top of gravity and the balance weights. [N]
+        start : EquilibriumState, optional
+            State to start Newton's method from (default: this state).
+
+        Raises
+        ------
+        ConvergenceError
+            If Newton's method does not reach the force tolerance.
+        """
+        params = _replace_force(self.params, self.params.nodal_force - self.applied_load + load)
+        x, iterations = newton_equilibrium(
+            self.model, params, (start or self).positions.ravel(), self.discretisation.settings
+        )
+        return EquilibriumState(self.model, x.reshape(-1, 3), params, np.asarray(load, dtype=float), iterations)
+
+
+def _replace_force(params: PhysicalParameters, force: np.ndarray) -> PhysicalParameters:
+    return PhysicalParameters(**{**params.__dict__, "nodal_force": force})
+
+
+def newton_equilibrium(
+    model: StaticModel, params: PhysicalParameters, x0: np.ndarray, settings: StaticSettings
+) -> tuple[np.ndarray, int]:
+    """Minimise the potential energy by Newton's method with a backtracking line search.
+
+    Slack droppers make the energy only once differentiable; the generalised (semi-smooth) Newton
+    step with the current active set converges in a few iterations, and the line search guards the
+    steps where the set changes.
+
+    Returns
+    -------
+    x : ndarray
+        Equilibrium coordinates. [m]
+    iterations : int
+        Newton iterations used. [-]
+
+    Raises
+    ------
+    ConvergenceError
+        If the largest out-of-balance force stays above ``settings.force_tolerance``.
+    """
+    funcs = model.functions
+    free = funcs.free_dofs
+    x = x0.copy()
+    hess, grad = funcs.hessian(x, params)
+    residual = np.abs(grad).max(initial=0.0)
+    for iteration in range(settings.max_newton_iterations):
+        if residual <= settings.force_tolerance:
+            return x, iteration
+        try:
+            step = spla.spsolve(hess, -grad)
+        except RuntimeError as exc:
+            raise ConvergenceError(f"equilibrium: singular tangent stiffness ({exc})", {"iteration": iteration}) from None
+        energy = funcs.energy(x, params)
+        slope = float(grad @ step)
+        alpha = 1.0
+        while True:
+            trial = x.copy()
+            trial[free] += alpha * step
+            new_hess, new_grad = funcs.hessian(trial, params)
+            new_residual = np.abs(new_grad).max(initial=0.0)
+            decrease = funcs.energy(trial, params) - energy <= 1e-4 * alpha * slope + 1e-9 * abs(energy)
+            if decrease or new_residual < 0.5 * residual or alpha < 1e-3:
+                break
+            alpha *= 0.5
+        x, hess, grad, residual = trial, new_hess, new_grad, new_residual
+    if residual <= settings.force_tolerance:
+        return x, settings.max_newton_iterations
+    raise ConvergenceError(
+        f"equilibrium did not converge: largest out-of-balance force {residual:.3g} N after "
+        f"{settings.max_newton_iterations} Newton iterations (tolerance {settings.force_tolerance:g} N)",
+        {"residual_N": residual, "iterations": settings.max_newton_iterations},
+    )
+
+
+def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> EquilibriumState:
+    """Find the dropper lengths and support settings that give the target contact-wire geometry.
+
+    Target: the contact wire at its designed height at every support and on the pre-sag parabola
+    (zero at the masts, ``presag_rel · l`` at mid-span) at every dropper, at its stagger at every
+    steady arm, under gravity, with both wires at their balance-weight tension. Solved with IPOPT
+    as one square system (see :func:`presag_opt.static.symbolic.solve_form_finding`).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model.
+    settings : StaticSettings, optional
+        Numerical settings.
+
+    Returns
+    -------
+    EquilibriumState
+        The form-found equilibrium (droppers tension-only from here on).
+
+    Raises
+    ------
+    ConvergenceError
+        If IPOPT fails or the result misses the equilibrium or geometry tolerance.
+    ModelError
+        If the geometry cannot be built: a dropper would have to push, or would be shorter than
+        ``settings.min_dropper_length``.
+    """
+    settings = settings or StaticSettings()
+    model = static_model(catenary, settings)
+    disc = model.discretisation
+    ax = disc.axial
+    x_design = disc.design_positions.ravel()
+
+    wire_tension = np.zeros(len(ax))
+    axial_stiffness = {}
+    for group, wire in ((CONTACT_WIRE, catenary.contact_wire), (MESSENGER_WIRE, catenary.messenger_wire)):
+        wire_tension[ax.group == group] = wire.tension
+        axial_stiffness[group] = wire.axial_stiffness
+    # First guess of the dropper preload: the contact-wire weight between neighbouring droppers.
+    first_guess = ax.design_length.copy()
+    drop_station = disc.cw_station[np.searchsorted(disc.cw_nodes, ax.node_a[disc.dropper_elements])]
+    tributary = np.gradient(drop_station) if len(drop_station) > 1 else np.ones(1)
+    preload = 9.81 * catenary.contact_wire.mass_per_length * np.abs(tributary)
+    first_guess[disc.dropper_elements] -= preload / ax.stiffness[disc.dropper_elements]
+    params = PhysicalParameters(
+        axial_stiffness=ax.stiffness,
+        unstretched_length=first_guess,
+        slack_allowed=np.zeros(len(ax)),
+        bending_stiffness=disc.bending.bending_stiffness,
+        spring_stiffness=disc.spring_stiffness,
+        spring_reference=x_design[disc.spring_dofs],
+        nodal_force=disc.gravity_force() + disc.termination_force,
+    )
+    drop_cw = ax.node_a[disc.dropper_elements]
+    mw_springs = disc.spring_dofs[np.isin(disc.spring_dofs // 3, disc.mast_mw_node)]
+    target_dofs = np.concatenate([3 * drop_cw + 2, 3 * disc.mast_cw_node + 2, mw_springs]).astype(int)
+    solution = solve_form_finding(disc, params, wire_tension, target_dofs, x_design)
+
+    # Unstretched wire lengths that carry the horizontal tension H in the form-found shape:
+    # N = H·L/l_h and N = EA (L − L0)/L0.
+    positions = solution.positions
+    lengths = np.linalg.norm(positions[ax.node_b] - positions[ax.node_a], axis=1)
+    horizontal = np.linalg.norm(positions[ax.node_b, :2] - positions[ax.node_a, :2], axis=1)
+    unstretched = ax.design_length.copy()
+    stiffness = ax.stiffness.copy()
+    for group, ea in axial_stiffness.items():
+        sel = ax.group == group
+        force = wire_tension[sel] * lengths[sel] / horizontal[sel]
+        unstretched[sel] = lengths[sel] * ea / (ea + force)
+        stiffness[sel] = ea / unstretched[sel]
+    unstretched[disc.dropper_elements] = solution.dropper_unstretched_length
+    params = PhysicalParameters(
+        **{**params.__dict__, "axial_stiffness": stiffness, "unstretched_length": unstretched,
+           "slack_allowed": (ax.group == DROPPER).astype(float), "spring_reference": solution.spring_reference}
+    )
+    # The plan-fixed solution leaves only the bending of the contact wire round its registration
+    # kinks unbalanced across the track; a full 3-D Newton solve settles it.
+    x, iterations = newton_equilibrium(model, params, positions.ravel(), settings)
+    state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), solution.iterations + iterations)
+    _check_form_found(state, target_dofs, x_design[target_dofs])
+    return state
+
+
+def _check_form_found(state: EquilibriumState, target_dofs: np.ndarray, targets: np.ndarray) -> None:
+    disc = state.discretisation
+    settings = disc.settings
+    stretch = state.element_lengths()[disc.dropper_elements] - state.params.unstretched_length[disc.dropper_elements]
+    pushing = np.flatnonzero(stretch <= 0.0)
+    if len(pushing):
+        i = pushing[0]
+        raise ModelError(
+            f"form-finding: the dropper in span {disc.dropper_span[i] + 1} at {disc.dropper_position[i]:.2f} m would "
+            "have to push to hold the target geometry (pre-sag too large for this system?)"
+        )
+    lengths = state.dropper_lengths()
+    short = np.flatnonzero(lengths < settings.min_dropper_length)
+    if len(short):
+        i = short[0]
+        raise ModelError(
+            f"form-finding: the dropper in span {disc.dropper_span[i] + 1} at {disc.dropper_position[i]:.2f} m is "
+            f"{lengths[i] * 1e3:.0f} mm long, shorter than settings.min_dropper_length = "
+            f"{settings.min_dropper_length * 1e3:.0f} mm (messenger wire sags too low for this system height)"
+        )
+    residual = np.abs(state.out_of_balance()).max()
+    miss = np.abs(state.positions.ravel()[target_dofs] - targets).max()
+    if residual > settings.force_tolerance or miss > settings.geometry_tolerance:
+        raise ConvergenceError(
+            f"form-finding result misses its tolerances: out-of-balance {residual:.3g} N "
+            f"(tolerance {settings.force_tolerance:g} N), geometry {miss:.3g} m (tolerance {settings.geometry_tolerance:g} m)",
+            {"residual_N": residual, "geometry_error_m": miss},
+        )
+
+
+__all__ = [
+    "DropperScheduleRow",
+    "EquilibriumState",
+    "StaticModel",
+    "form_find",
+    "newton_equilibrium",
+    "static_model",
+    "STEADY_ARM",
+]
