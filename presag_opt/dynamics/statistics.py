@@ -126,9 +126,10 @@ def lowpass_filter(time: np.ndarray, force: np.ndarray, *, cutoff: float = CUTOF
     time, force = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     rate = _sampling_rate(time, force)
     if rate < MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff:
+        lowest = MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff
         raise ModelError(
             f"sampling rate {rate:g} Hz is too coarse for a {cutoff:g} Hz low-pass: use at least "
-            f"{MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff:g} Hz (time step <= {1e3 / (MIN_SAMPLES_PER_CUTOFF_PERIOD * cutoff):g} ms)"
+            f"{lowest:g} Hz (time step <= {1e3 / lowest:g} ms)"
         )
     sos = signal.butter(FILTER_ORDER, cutoff, btype="low", fs=rate, output="sos")
     return signal.sosfiltfilt(sos, force)

@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.discretisation import (
@@ -26,6 +25,7 @@ from presag_opt.static.discretisation import (
     StaticSettings,
     discretise,
 )
+from presag_opt.static.linalg import Factor
 from presag_opt.static.symbolic import PhysicalParameters, PotentialFunctions, build_potential, solve_form_finding
 from presag_opt.system.catenary import Catenary
 
@@ -176,16 +176,18 @@ class EquilibriumState:
 
     def tangent_stiffness(self) -> sp.csc_matrix:
         """Tangent stiffness on the free degrees of freedom at this state. [N/m]"""
+        return self.model.functions.solver.matrix(self._stiffness_values())
+
+    def _stiffness_values(self) -> np.ndarray:
         if "stiffness" not in self._cache:
-            hess, _ = self.model.functions.hessian(self.positions.ravel(), self.params)
-            self._cache["stiffness"] = hess
+            self._cache["stiffness"], _ = self.model.functions.hessian_values(self.positions.ravel(), self.params)
         return self._cache["stiffness"]
 
-    def factorised_stiffness(self):
-        """Sparse LU factorisation of :meth:`tangent_stiffness` (computed once per state)."""
-        if "lu" not in self._cache:
-            self._cache["lu"] = spla.splu(self.tangent_stiffness(), permc_spec="COLAMD")
-        return self._cache["lu"]
+    def factorised_stiffness(self) -> Factor:
+        """Factorisation of :meth:`tangent_stiffness` (computed once per state)."""
+        if "factor" not in self._cache:
+            self._cache["factor"] = self.model.functions.solver.factorise(self._stiffness_values())
+        return self._cache["factor"]
 
     def out_of_balance(self) -> np.ndarray:
         """Out-of-balance force on the free degrees of freedom. [N]"""
@@ -243,25 +245,26 @@ def newton_equilibrium(
     funcs = model.functions
     free = funcs.free_dofs
     x = x0.copy()
-    hess, grad = funcs.hessian(x, params)
+    hess, grad = funcs.hessian_values(x, params)
     residual = np.abs(grad).max(initial=0.0)
     for iteration in range(settings.max_newton_iterations):
         if residual <= settings.force_tolerance:
             return x, iteration
         try:
-            step = spla.spsolve(hess, -grad)
+            step = -funcs.solver.factorise(hess).solve(grad)
         except RuntimeError as exc:
             raise ConvergenceError(f"equilibrium: singular tangent stiffness ({exc})", {"iteration": iteration}) from None
-        energy = funcs.energy(x, params)
-        slope = float(grad @ step)
-        alpha = 1.0
+        alpha, energy = 1.0, None
         while True:
             trial = x.copy()
             trial[free] += alpha * step
-            new_hess, new_grad = funcs.hessian(trial, params)
+            new_hess, new_grad = funcs.hessian_values(trial, params)
             new_residual = np.abs(new_grad).max(initial=0.0)
-            decrease = funcs.energy(trial, params) - energy <= 1e-4 * alpha * slope + 1e-9 * abs(energy)
-            if decrease or new_residual < 0.5 * residual or alpha < 1e-3:
+            if new_residual < 0.5 * residual or alpha < 1e-3:
+                break
+            # Armijo test on the energy, for steps that change the set of slack droppers.
+            energy = funcs.energy(x, params) if energy is None else energy
+            if funcs.energy(trial, params) - energy <= 1e-4 * alpha * float(grad @ step) + 1e-12 * abs(energy):
                 break
             alpha *= 0.5
         x, hess, grad, residual = trial, new_hess, new_grad, new_residual

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
+from presag_opt.static.linalg import BandedSolver
 
 POTENTIAL_INPUTS = (
     "x",
@@ -120,10 +121,13 @@ class PotentialFunctions:
     residual : casadi.Function
         Same inputs, output ``gradient`` ∂Π/∂x (out-of-balance force, sign: internal minus external). [N]
     stiffness : casadi.Function
-        Same inputs, outputs ``hessian`` (tangent stiffness on the free degrees of freedom) [N/m]
-        and ``gradient`` (on the free degrees of freedom) [N].
+        Same inputs, outputs ``hessian_nonzeros`` (the nonzeros, in CSC order of ``solver.pattern``,
+        of the tangent stiffness on the free degrees of freedom) [N/m] and ``gradient`` (on the free
+        degrees of freedom) [N].
     free_dofs : ndarray of int
         Degrees of freedom that move in equilibrium (not supports, anchors or pivots).
+    solver : BandedSolver
+        Ordering and factorisation of the tangent stiffness pattern.
     """
 
     discretisation: Discretisation
@@ -131,15 +135,21 @@ class PotentialFunctions:
     residual: ca.Function
     stiffness: ca.Function
     free_dofs: np.ndarray
+    solver: BandedSolver
 
     def gradient(self, x: np.ndarray, params: PhysicalParameters) -> np.ndarray:
         """∂Π/∂x at coordinates ``x``. [N]"""
         return np.asarray(self.residual(x, *params.as_args())).ravel()
 
+    def hessian_values(self, x: np.ndarray, params: PhysicalParameters) -> tuple[np.ndarray, np.ndarray]:
+        """Nonzeros of the free-DOF tangent stiffness and the free-DOF gradient at ``x``. [N/m], [N]"""
+        values, grad = self.stiffness(x, *params.as_args())
+        return np.asarray(values).ravel(), np.asarray(grad).ravel()
+
     def hessian(self, x: np.ndarray, params: PhysicalParameters) -> tuple[sp.csc_matrix, np.ndarray]:
-        """Tangent stiffness and gradient on the free degrees of freedom at ``x``. [N/m], [N]"""
-        hess, grad = self.stiffness(x, *params.as_args())
-        return hess.sparse().tocsc(), np.asarray(grad).ravel()
+        """Tangent stiffness (sparse) and gradient on the free degrees of freedom at ``x``. [N/m], [N]"""
+        values, grad = self.hessian_values(x, params)
+        return self.solver.matrix(values), grad
 
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
         """Total potential energy. [J]"""
@@ -162,14 +172,19 @@ def build_potential(disc: Discretisation) -> PotentialFunctions:
     energy = _potential_expression(disc, *syms)
     hess, grad = ca.hessian(energy, syms[0])
     free = np.flatnonzero(~disc.fixed_dofs)
+    hess = hess[free.tolist(), free.tolist()]
+    sparsity = hess.sparsity()
+    pattern = sp.csc_matrix(
+        (np.ones(sparsity.nnz()), np.asarray(sparsity.row()), np.asarray(sparsity.colind())), shape=hess.shape
+    )
     names = list(POTENTIAL_INPUTS)
     return PotentialFunctions(
         disc,
         ca.Function("potential", syms, [energy], names, ["energy"]),
         ca.Function("residual", syms, [grad], names, ["gradient"]),
-        ca.Function("stiffness", syms, [hess[free.tolist(), free.tolist()], grad[free.tolist()]], names,
-                    ["hessian", "gradient"]),
+        ca.Function("stiffness", syms, [hess.nz[:], grad[free.tolist()]], names, ["hessian_nonzeros", "gradient"]),
         free,
+        BandedSolver.for_pattern(pattern),
     )
 
 

@@ -1,0 +1,296 @@
+"""Elasticity of the contact wire along a span: uplift per unit upward point force.
+
+Two independent methods:
+
+- :func:`linear_elasticity` — from the tangent stiffness K at the form-found equilibrium (the
+  Hessian of the CasADi potential): one sparse factorisation, one solve per contact-wire node of the
+  span, then e(x) = N(x)ᵀ C N(x) with C the compliance block of those nodes and N the linear shape
+  functions, at any number of positions.
+- :func:`nonlinear_elasticity` — equilibrium re-solved with the force F applied at each position,
+  droppers free to go slack: e(x; F) = Δz(x)/F. Dropper unloading near the masts is the physical
+  nonlinearity (Schick, Liu & Stichel 2025, Fig. 3).
+
+Summary values follow the paper's notation: e_mid at mid-span, e_mast at the supports (mean of the
+span's two ends), e_max, e_min, Δe = e_max − e_min, and the uniformity u = (e_max − e_min)/(e_max + e_min).
+
+References
+----------
+Schick, Liu, Stichel, "Validity range of a quasi-static method for adjusting the pre-sag of simple
+railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, section 4.1, eq. (5).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from presag_opt.errors import ModelError
+from presag_opt.static.equilibrium import EquilibriumState
+
+DEFAULT_FORCES = (50.0, 100.0, 150.0, 200.0)
+"""Force levels of the nonlinear elasticity curves. [N]"""
+
+
+@dataclass(frozen=True, kw_only=True)
+class ElasticityCurve:
+    """Elasticity along one span.
+
+    Attributes
+    ----------
+    span : int
+        Span index, from 0. [-]
+    span_length : float
+        Length of the span. [m]
+    force : float or None
+        Force of a nonlinear curve; None for the linear (tangent-stiffness) curve. [N]
+    position : ndarray
+        Distance from the span's first mast. [m]
+    elasticity : ndarray
+        Uplift per unit force at each position. [m/N]
+    slack_droppers : ndarray of int or None
+        Number of slack droppers in the section with the force at each position (nonlinear only).
+    """
+
+    span: int
+    span_length: float
+    force: float | None
+    position: np.ndarray
+    elasticity: np.ndarray
+    slack_droppers: np.ndarray | None = None
+
+    def at(self, position: float | np.ndarray) -> float | np.ndarray:
+        """Elasticity interpolated at positions from the span's first mast. [m/N]"""
+        return np.interp(position, self.position, self.elasticity)
+
+    @property
+    def e_mid(self) -> float:
+        """Elasticity at mid-span. [m/N]"""
+        return float(self.at(0.5 * self.span_length))
+
+    @property
+    def e_mast(self) -> float:
+        """Elasticity at the supports: mean of the span's two ends. [m/N]"""
+        return float(0.5 * (self.elasticity[0] + self.elasticity[-1]))
+
+    @property
+    def e_max(self) -> float:
+        """Largest elasticity along the span. [m/N]"""
+        return float(self.elasticity.max())
+
+    @property
+    def e_min(self) -> float:
+        """Smallest elasticity along the span. [m/N]"""
+        return float(self.elasticity.min())
+
+    @property
+    def delta_e(self) -> float:
+        """Δe = e_max − e_min. [m/N]"""
+        return self.e_max - self.e_min
+
+    @property
+    def uniformity(self) -> float:
+        """u = (e_max − e_min)/(e_max + e_min). [-]"""
+        return self.delta_e / (self.e_max + self.e_min)
+
+    def summary_mm_per_N(self) -> dict[str, float | None]:
+        """Summary values in mm/N (and the force in N), for tables and JSON."""
+        return {
+            "force_N": self.force,
+            "e_mid_mm_per_N": self.e_mid * 1e3,
+            "e_mast_mm_per_N": self.e_mast * 1e3,
+            "e_max_mm_per_N": self.e_max * 1e3,
+            "e_min_mm_per_N": self.e_min * 1e3,
+            "delta_e_mm_per_N": self.delta_e * 1e3,
+            "uniformity": self.uniformity,
+        }
+
+
+def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarray:
+    """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]"""
+    disc = state.discretisation
+    n_spans = len(disc.mast_station) - 1
+    if not 0 <= span < n_spans:
+        raise ModelError(f"span = {span + 1} is outside the valid range [1, {n_spans}]")
+    if not 0.01 <= step <= 10.0:
+        raise ModelError(f"step = {step:g} m is outside the valid range [0.01, 10] m")
+    length = disc.mast_station[span + 1] - disc.mast_station[span]
+    return np.linspace(0.0, length, int(np.ceil(length / step - 1e-9)) + 1)
+
+
+def linear_elasticity(state: EquilibriumState, span: int | None = None, step: float = 0.1) -> ElasticityCurve:
+    """Linear elasticity of a span from the tangent stiffness at the equilibrium state.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        Form-found (or loaded) equilibrium.
+    span : int, optional
+        Span index from 0; default the central span.
+    step : float
+        Largest distance between evaluation points. [m]
+
+    Returns
+    -------
+    ElasticityCurve
+        With ``force`` None.
+    """
+    disc = state.discretisation
+    span = disc.catenary.layout.central_span if span is None else span
+    positions = span_positions(state, span, step)
+    stations = disc.mast_station[span] + positions
+    shape = disc.cw_shape(stations)
+    nodes = np.unique(shape.indices)
+    free = state.model.functions.free_dofs
+    rows = np.searchsorted(free, 3 * disc.cw_nodes[nodes] + 2)
+    if not np.array_equal(free[rows], 3 * disc.cw_nodes[nodes] + 2):
+        raise ModelError("a contact-wire node of the span is held fixed vertically; its elasticity is zero")
+    unit_loads = np.zeros((len(free), len(nodes)))
+    unit_loads[rows, np.arange(len(nodes))] = 1.0
+    compliance = state.factorised_stiffness().solve(unit_loads)[rows]
+    local = shape[:, nodes].toarray()
+    elasticity = np.einsum("pi,ij,pj->p", local, compliance, local)
+    return ElasticityCurve(
+        span=span,
+        span_length=float(positions[-1]),
+        force=None,
+        position=positions,
+        elasticity=elasticity,
+    )
+
+
+def nonlinear_elasticity(
+    state: EquilibriumState, force: float, span: int | None = None, step: float = 0.5
+) -> ElasticityCurve:
+    """Elasticity at a force level by re-solving equilibrium with the force at each position.
+
+    Droppers are free to go slack. Each position starts Newton's method from the previous
+    position's loaded state (continuation along the span).
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        Form-found equilibrium (unloaded).
+    force : float
+        Upward contact force. [N]
+    span : int, optional
+        Span index from 0; default the central span.
+    step : float
+        Largest distance between evaluation points. [m]
+
+    Raises
+    ------
+    ModelError
+        If the force is not positive or implausibly large.
+    ConvergenceError
+        If an equilibrium re-solve fails.
+    """
+    if not 0.0 < force <= 2000.0:
+        raise ModelError(f"force = {force:g} N is outside the valid range (0, 2000] N")
+    disc = state.discretisation
+    span = disc.catenary.layout.central_span if span is None else span
+    positions = span_positions(state, span, step)
+    stations = disc.mast_station[span] + positions
+    shape = disc.cw_shape(stations)
+    z0 = state.positions[disc.cw_nodes, 2]
+    elasticity = np.empty(len(positions))
+    slack = np.empty(len(positions), dtype=int)
+    previous = state
+    for i, station in enumerate(stations):
+        loaded = state.solve(disc.cw_load_vector(station, force), start=previous)
+        uplift = shape[i] @ (loaded.positions[disc.cw_nodes, 2] - z0)
+        elasticity[i] = float(uplift[0]) / force
+        slack[i] = int(np.count_nonzero(loaded.dropper_forces() <= 0.0))
+        previous = loaded
+    return ElasticityCurve(
+        span=span,
+        span_length=float(positions[-1]),
+        force=float(force),
+        position=positions,
+        elasticity=elasticity,
+        slack_droppers=slack,
+    )
+
+
+@dataclass(frozen=True, kw_only=True)
+class ElasticityStudy:
+    """Elasticity curves of one span at several force levels (and optionally the linear curve).
+
+    Attributes
+    ----------
+    catenary_name : str
+        Name of the system.
+    span : int
+        Span index, from 0. [-]
+    curves : tuple of ElasticityCurve
+        Nonlinear curves by increasing force, then the linear curve if computed.
+    """
+
+    catenary_name: str
+    span: int
+    curves: tuple[ElasticityCurve, ...]
+
+    @property
+    def nonlinear(self) -> tuple[ElasticityCurve, ...]:
+        """Curves at force levels, by increasing force."""
+        return tuple(c for c in self.curves if c.force is not None)
+
+    @property
+    def linear(self) -> ElasticityCurve | None:
+        """The tangent-stiffness curve, if computed."""
+        return next((c for c in self.curves if c.force is None), None)
+
+    def to_dict(self) -> dict:
+        """JSON-ready content: positions in m, elasticities in mm/N."""
+        first = self.curves[0]
+        return {
+            "catenary": self.catenary_name,
+            "span": self.span + 1,
+            "span_length_m": first.span_length,
+            "x_m": first.position.tolist(),
+            "curves": [
+                {
+                    **c.summary_mm_per_N(),
+                    "x_m": c.position.tolist(),
+                    "elasticity_mm_per_N": (c.elasticity * 1e3).tolist(),
+                    **({"slack_droppers": c.slack_droppers.tolist()} if c.slack_droppers is not None else {}),
+                }
+                for c in self.curves
+            ],
+        }
+
+
+def elasticity_study(
+    state: EquilibriumState,
+    *,
+    span: int | None = None,
+    forces: Sequence[float] = DEFAULT_FORCES,
+    step: float = 0.5,
+    linear: bool = False,
+    linear_step: float = 0.1,
+) -> ElasticityStudy:
+    """Nonlinear elasticity curves at several forces, and optionally the linear curve.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        Form-found equilibrium.
+    span : int, optional
+        Span index from 0; default the central span.
+    forces : sequence of float
+        Force levels. [N]
+    step : float
+        Point spacing of the nonlinear curves. [m]
+    linear : bool
+        Also compute the linear (tangent-stiffness) curve.
+    linear_step : float
+        Point spacing of the linear curve. [m]
+    """
+    span = state.catenary.layout.central_span if span is None else span
+    if not forces and not linear:
+        raise ModelError("forces is empty and linear is off: nothing to compute")
+    curves = [nonlinear_elasticity(state, f, span, step) for f in sorted(forces)]
+    if linear:
+        curves.append(linear_elasticity(state, span, linear_step))
+    return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves))
