@@ -299,7 +299,8 @@ class _FactorisedSolver:
     def correction(self, rhs: np.ndarray, dofs: np.ndarray, tangent: np.ndarray) -> np.ndarray:
         """Solve (K_eff + E T Eᵀ) δ = rhs, with T = s·tangent on ``dofs``. [m]"""
         x = self._lu.solve(rhs)
-        return x
+        if len(dofs) == 0:
+            return x
         z = self._inverse_columns(dofs)
         t = self._system.c.s * tangent
         capacitance = np.eye(len(dofs)) + t @ z[dofs, :]

@@ -1,0 +1,41 @@
+"""The ``presag`` command line.
+
+The command line holds no physics: each sub-command parses its arguments, calls the package API,
+and prints a readable table or, with ``--json``, one JSON object. Bad input ends the program with a
+one-line reason on standard error and exit status 2; a solver that does not converge ends it with
+exit status 3.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from presag_opt.cli import common, static
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every sub-command registered."""
+    parser = argparse.ArgumentParser(
+        prog="presag",
+        description="Pre-sag design for simple railway overhead contact lines.",
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMAND_MODULES:
+        module.register(subparsers)
+    return parser
+
+
+COMMAND_MODULES = [static]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``presag`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    return common.run(args.handler, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

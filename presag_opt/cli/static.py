@@ -1,0 +1,121 @@
+"""``presag form-find`` and ``presag elasticity``."""
+
+from __future__ import annotations
+
+import argparse
+
+from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.elasticity import DEFAULT_FORCES, elasticity_study
+from presag_opt.errors import ModelError
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import form_find
+from presag_opt.system.loader import builtin_model_names, load_catenary
+
+DEFAULT_MODEL = "st_9.8_ideal"
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the static-model sub-commands."""
+    models = ", ".join(builtin_model_names())
+    p = subparsers.add_parser(
+        "form-find",
+        help="form-find a catenary and print its dropper schedule",
+        description=f"Form-find a catenary and print its dropper schedule. Built-in models: {models}.",
+    )
+    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=f"model file or built-in name (default {DEFAULT_MODEL})")
+    p.add_argument("--span", type=int, default=None, help="print only this span (from 1)")
+    add_element_flag(p)
+    add_json_flag(p)
+    p.set_defaults(handler=form_find_command)
+
+    p = subparsers.add_parser(
+        "elasticity",
+        help="elasticity curves of a span",
+        description=f"Elasticity of a span at force levels (re-solved equilibria). Built-in models: {models}.",
+    )
+    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=f"model file or built-in name (default {DEFAULT_MODEL})")
+    p.add_argument("--span", type=int, default=None, help="span number from 1 (default: the central span)")
+    p.add_argument("--forces", type=float_list, default=list(DEFAULT_FORCES), help="force levels in N, comma-separated (default 50,100,150,200)")
+    p.add_argument("--step", type=positive_float, default=0.5, help="point spacing of the nonlinear curves in m (default 0.5)")
+    p.add_argument("--linear", action="store_true", help="add the linear (tangent stiffness) curve, every 0.1 m")
+    p.add_argument("--presag", type=positive_float, default=None, help="override the model's pre-sag: mid-span pre-sag of the longest span in mm")
+    p.add_argument("--plot", metavar="FILE", default=None, help="save a plot of the curves (PNG, PDF or SVG)")
+    add_element_flag(p)
+    add_json_flag(p)
+    p.set_defaults(handler=elasticity_command)
+
+
+def add_element_flag(parser: argparse.ArgumentParser) -> None:
+    """Add ``--element-length``."""
+    parser.add_argument("--element-length", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
+
+
+def span_index(args: argparse.Namespace, n_spans: int) -> int | None:
+    """The 0-based span from ``--span`` (1-based), checked."""
+    if args.span is None:
+        return None
+    if not 1 <= args.span <= n_spans:
+        raise ModelError(f"--span = {args.span} is outside the valid range [1, {n_spans}]")
+    return args.span - 1
+
+
+def form_find_command(args: argparse.Namespace) -> int:
+    catenary = load_catenary(args.model)
+    state = form_find(catenary, StaticSettings(element_length=args.element_length))
+    span = span_index(args, catenary.layout.n_spans)
+    rows = [r for r in state.dropper_schedule() if span is None or r.span == span + 1]
+    arms = state.steady_arm_forces()
+    if args.json:
+        print_json({
+            "catenary": catenary.name,
+            "droppers": [r.__dict__ for r in rows],
+            "steady_arms": [
+                {"mast": i + 1, "force_N": f, "angle_deg": a}
+                for i, (f, a) in enumerate(zip(arms, state.steady_arm_angles() * 180 / 3.141592653589793))
+            ],
+        })
+        return 0
+    print(f"Dropper schedule: {catenary.name}")
+    print(table(
+        ["span", "position [m]", "cut length [mm]", "installed [mm]", "force [N]"],
+        [(r.span, r.position_m, r.length_mm, r.installed_length_mm, r.force_N) for r in rows],
+        ["{}", "{:.2f}", "{:.0f}", "{:.1f}", "{:.1f}"],
+    ))
+    if len(arms):
+        print(f"\nSteady arms: tension {arms.min():.0f}…{arms.max():.0f} N")
+    return 0
+
+
+def elasticity_command(args: argparse.Namespace) -> int:
+    catenary = load_catenary(args.model)
+    if args.presag is not None:
+        catenary = catenary.with_presag(args.presag * 1e-3 / max(catenary.layout.span_lengths))
+    state = form_find(catenary, StaticSettings(element_length=args.element_length))
+    study = elasticity_study(
+        state, span=span_index(args, catenary.layout.n_spans), forces=args.forces, step=args.step, linear=args.linear
+    )
+    if args.plot:
+        from presag_opt.plotting import plot_elasticity
+
+        plot_elasticity(study, args.plot)
+    if args.json:
+        print_json(study.to_dict())
+        return 0
+    print(f"Elasticity of span {study.span + 1} ({study.curves[0].span_length:g} m): {catenary.name}")
+    rows = []
+    for curve in study.curves:
+        s = curve.summary_mm_per_N()
+        rows.append((
+            "linear" if curve.force is None else f"{curve.force:g}",
+            s["e_mid_mm_per_N"], s["e_mast_mm_per_N"], s["e_max_mm_per_N"], s["e_min_mm_per_N"],
+            s["delta_e_mm_per_N"], s["uniformity"],
+            None if curve.slack_droppers is None else int(curve.slack_droppers.max()),
+        ))
+    print(table(
+        ["force [N]", "e_mid", "e_mast", "e_max", "e_min", "Δe [mm/N]", "uniformity", "slack droppers (max)"],
+        rows,
+        ["{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{}"],
+    ))
+    if args.plot:
+        print(f"\nPlot saved to {args.plot}")
+    return 0
