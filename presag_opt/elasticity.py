@@ -4,8 +4,10 @@ Two independent methods:
 
 - :func:`linear_elasticity` — from the tangent stiffness K at the form-found equilibrium (the
   Hessian of the CasADi potential): one sparse factorisation, one solve per contact-wire node of the
-  span, then e(x) = N(x)ᵀ C N(x) with C the compliance block of those nodes and N the linear shape
-  functions, at any number of positions.
+  span, then e(x) = N(x)ᵀ C N(x) + h t(1 − t)/T_CW with C the compliance block of those nodes, N the
+  linear shape functions and the last term the string deflection inside the loaded element
+  (:meth:`~presag_opt.static.discretisation.Discretisation.cw_element_compliance`), at any number of
+  positions.
 - :func:`nonlinear_elasticity` — equilibrium re-solved with the force F applied at each position,
   droppers free to go slack: e(x; F) = Δz(x)/F. Dropper unloading near the masts is the physical
   nonlinearity (Schick, Liu & Stichel 2025, Fig. 3).
@@ -150,7 +152,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     unit_loads[rows, np.arange(len(nodes))] = 1.0
     compliance = state.factorised_stiffness().solve(unit_loads)[rows]
     local = shape[:, nodes].toarray()
-    elasticity = np.einsum("pi,ij,pj->p", local, compliance, local)
+    elasticity = np.einsum("pi,ij,pj->p", local, compliance, local) + disc.cw_element_compliance(stations)
     return ElasticityCurve(
         span=span,
         span_length=float(positions[-1]),
@@ -194,13 +196,14 @@ def nonlinear_elasticity(
     stations = disc.mast_station[span] + positions
     shape = disc.cw_shape(stations)
     z0 = state.positions[disc.cw_nodes, 2]
+    inside_element = disc.cw_element_compliance(stations)
     elasticity = np.empty(len(positions))
     slack = np.empty(len(positions), dtype=int)
     previous = state
     for i, station in enumerate(stations):
         loaded = state.solve(disc.cw_load_vector(station, force), start=previous)
         uplift = shape[i] @ (loaded.positions[disc.cw_nodes, 2] - z0)
-        elasticity[i] = float(uplift[0]) / force
+        elasticity[i] = float(uplift[0]) / force + inside_element[i]
         slack[i] = int(np.count_nonzero(loaded.dropper_forces() <= 0.0))
         previous = loaded
     return ElasticityCurve(

@@ -217,6 +217,20 @@ class Discretisation:
         vals = np.column_stack([1.0 - t, t]).ravel()
         return sp.csr_matrix((vals, (rows, cols)), shape=(len(s), len(self.cw_station)))
 
+    def cw_element_compliance(self, stations: np.ndarray) -> np.ndarray:
+        """Deflection per unit force of the contact wire inside its element, ends held. [m/N]
+
+        A point force at local coordinate t of an element of length h deflects a tensioned string
+        element with fixed ends by h·t(1 − t)/T (static condensation of the point inside the element).
+        Linear shape functions miss this part, so it is added to the nodal (interpolated) uplift at
+        the load point; without it the elasticity would dip between nodes.
+        """
+        s = np.asarray(stations, dtype=float)
+        right = np.clip(np.searchsorted(self.cw_station, s, side="right"), 1, len(self.cw_station) - 1)
+        h = self.cw_station[right] - self.cw_station[right - 1]
+        t = np.clip((s - self.cw_station[right - 1]) / h, 0.0, 1.0)
+        return h * t * (1.0 - t) / self.catenary.contact_wire.tension
+
     def span_of_station(self, station: float) -> int:
         """Span (from 0) containing an along-track station."""
         return int(np.clip(np.searchsorted(self.mast_station, station, side="right") - 1, 0, len(self.mast_station) - 2))
