@@ -23,8 +23,6 @@ EN 50119:2020, Railway applications - Fixed installations - Electric traction ov
 
 from __future__ import annotations
 
-import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,8 +42,6 @@ MIN_SAMPLES_PER_CUTOFF_PERIOD = 5
 MIN_WINDOW_CUTOFF_PERIODS = 5
 """The analysis window must span at least this many cut-off periods (0.25 s for 20 Hz). [-]"""
 
-SPEED_RATIO_WARNING = 0.7
-"""Speed ratio β above which a warning is issued (EN 50119 limit on v/c). [-]"""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -213,82 +209,3 @@ def _window_mask(time: np.ndarray, start: float, end: float, cutoff: float) -> n
             f"{MIN_WINDOW_CUTOFF_PERIODS} periods of the {cutoff:g} Hz filter ({shortest:g} s)"
         )
     return (time >= start - tol) & (time <= end + tol)
-
-
-def wave_speed(tension: float, mass_per_length: float) -> float:
-    """Transverse wave propagation speed of a tensioned wire, c = sqrt(T / ρ).
-
-    Parameters
-    ----------
-    tension : float
-        Wire tension T. [N]
-    mass_per_length : float
-        Mass per metre ρ. [kg/m]
-
-    Returns
-    -------
-    float
-        Wave speed c. [m/s]
-    """
-    if not (tension > 0.0 and mass_per_length > 0.0):
-        raise ModelError(
-            f"tension = {tension!r} N and mass_per_length = {mass_per_length!r} kg/m must both be positive"
-        )
-    return math.sqrt(tension / mass_per_length)
-
-
-def speed_ratio(speed: float, wave_speed: float) -> float:
-    """Speed ratio β = v / c; warns above :data:`SPEED_RATIO_WARNING` (0.7).
-
-    Parameters
-    ----------
-    speed : float
-        Train speed v. [m/s]
-    wave_speed : float
-        Contact-wire wave speed c. [m/s]
-
-    Returns
-    -------
-    float
-        β. [-]
-
-    Raises
-    ------
-    ModelError
-        A negative speed, a non-positive wave speed, or a speed at or above the wave speed (the
-        contact wire cannot carry the pantograph's wave ahead of it: no steady solution).
-    """
-    if not wave_speed > 0.0:
-        raise ModelError(f"wave_speed = {wave_speed!r} m/s must be positive")
-    if not 0.0 <= speed < wave_speed:
-        raise ModelError(
-            f"speed = {speed * 3.6:g} km/h is outside the valid range [0, {wave_speed * 3.6:g}) km/h "
-            f"(below the contact-wire wave speed {wave_speed:g} m/s)"
-        )
-    beta = speed / wave_speed
-    if beta > SPEED_RATIO_WARNING:
-        warnings.warn(
-            f"speed ratio β = {beta:.2f} exceeds {SPEED_RATIO_WARNING} (EN 50119): wave reflections and the "
-            "Doppler effect dominate the interaction",
-            stacklevel=2,
-        )
-    return beta
-
-
-def doppler_factor(speed: float, wave_speed: float) -> float:
-    """Doppler factor (c - v)/(c + v) of waves reflected ahead of the pantograph.
-
-    Parameters
-    ----------
-    speed : float
-        Train speed v. [m/s]
-    wave_speed : float
-        Contact-wire wave speed c. [m/s]
-
-    Returns
-    -------
-    float
-        (1 - β)/(1 + β), in (0, 1]. [-]
-    """
-    beta = speed_ratio(speed, wave_speed)
-    return (1.0 - beta) / (1.0 + beta)

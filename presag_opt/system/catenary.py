@@ -66,7 +66,9 @@ class Wire:
     @property
     def wave_speed(self) -> float:
         """Transverse wave speed sqrt(T/ρ). [m/s]"""
-        return math.sqrt(self.tension / self.mass_per_length)
+        from presag_opt.speed import wave_speed
+
+        return wave_speed(self.tension, self.mass_per_length)
 
 
 @dataclass(frozen=True, kw_only=True)

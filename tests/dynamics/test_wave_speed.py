@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
-from presag_opt.dynamics.statistics import doppler_factor, speed_ratio, wave_speed
+from presag_opt.speed import doppler_factor, speed_ratio, wave_speed
 from presag_opt.errors import ModelError
 
 TENSION = 20e3  # N, EN 50318-style contact wire

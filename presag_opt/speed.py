@@ -1,0 +1,100 @@
+"""Train speed against the contact wire's wave speed.
+
+The speed ratio β = v / c_CW with c_CW = sqrt(T_CW / ρ_CW) separates the quasi-static from the
+dynamic regime (Schick, Liu & Stichel 2025, eq. (6): the quasi-static pre-sag rule holds for
+β ≲ 0.4); EN 50119 limits design speeds to 0.7 c_CW. The Doppler factor (c − v)/(c + v) measures
+how strongly waves reflected ahead of the pantograph are amplified.
+
+References
+----------
+Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, eq. (6).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from presag_opt.errors import ModelError
+
+SPEED_RATIO_WARNING = 0.7
+"""Speed ratio β above which a warning is issued (EN 50119 limit on v/c). [-]"""
+
+
+def wave_speed(tension: float, mass_per_length: float) -> float:
+    """Transverse wave propagation speed of a tensioned wire, c = sqrt(T / ρ).
+
+    Parameters
+    ----------
+    tension : float
+        Wire tension T. [N]
+    mass_per_length : float
+        Mass per metre ρ. [kg/m]
+
+    Returns
+    -------
+    float
+        Wave speed c. [m/s]
+    """
+    if not (tension > 0.0 and mass_per_length > 0.0):
+        raise ModelError(
+            f"tension = {tension!r} N and mass_per_length = {mass_per_length!r} kg/m must both be positive"
+        )
+    return math.sqrt(tension / mass_per_length)
+
+
+def speed_ratio(speed: float, wave_speed: float) -> float:
+    """Speed ratio β = v / c; warns above :data:`SPEED_RATIO_WARNING` (0.7).
+
+    Parameters
+    ----------
+    speed : float
+        Train speed v. [m/s]
+    wave_speed : float
+        Contact-wire wave speed c. [m/s]
+
+    Returns
+    -------
+    float
+        β. [-]
+
+    Raises
+    ------
+    ModelError
+        A negative speed, a non-positive wave speed, or a speed at or above the wave speed (the
+        contact wire cannot carry the pantograph's wave ahead of it: no steady solution).
+    """
+    if not wave_speed > 0.0:
+        raise ModelError(f"wave_speed = {wave_speed!r} m/s must be positive")
+    if not 0.0 <= speed < wave_speed:
+        raise ModelError(
+            f"speed = {speed * 3.6:g} km/h is outside the valid range [0, {wave_speed * 3.6:g}) km/h "
+            f"(below the contact-wire wave speed {wave_speed:g} m/s)"
+        )
+    beta = speed / wave_speed
+    if beta > SPEED_RATIO_WARNING:
+        warnings.warn(
+            f"speed ratio β = {beta:.2f} exceeds {SPEED_RATIO_WARNING} (EN 50119): wave reflections and the "
+            "Doppler effect dominate the interaction",
+            stacklevel=2,
+        )
+    return beta
+
+
+def doppler_factor(speed: float, wave_speed: float) -> float:
+    """Doppler factor (c - v)/(c + v) of waves reflected ahead of the pantograph.
+
+    Parameters
+    ----------
+    speed : float
+        Train speed v. [m/s]
+    wave_speed : float
+        Contact-wire wave speed c. [m/s]
+
+    Returns
+    -------
+    float
+        (1 - β)/(1 + β), in (0, 1]. [-]
+    """
+    beta = speed_ratio(speed, wave_speed)
+    return (1.0 - beta) / (1.0 + beta)
