@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.errors import ModelError
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 
 DEFAULT_FORCES = (50.0, 100.0, 150.0, 200.0)
@@ -162,13 +162,17 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     )
 
 
-def nonlinear_elasticity(
-    state: EquilibriumState, force: float, span: int | None = None, step: float = 0.5
-) -> ElasticityCurve:
-    """Elasticity at a force level by re-solving equilibrium with the force at each position.
+METHODS = ("newton", "active-set")
 
-    Droppers are free to go slack. Each position starts Newton's method from the previous
-    position's loaded state (continuation along the span).
+
+def nonlinear_elasticity(
+    state: EquilibriumState,
+    force: float,
+    span: int | None = None,
+    step: float = 0.5,
+    method: str = "newton",
+) -> ElasticityCurve:
+    """Elasticity at a force level, droppers free to go slack.
 
     Parameters
     ----------
@@ -180,40 +184,142 @@ def nonlinear_elasticity(
         Span index from 0; default the central span.
     step : float
         Largest distance between evaluation points. [m]
+    method : {"newton", "active-set"}
+        ``"newton"`` re-solves the full nonlinear equilibrium with the force at each position
+        (Newton's method on the potential energy, each position starting from the previous one).
+        ``"active-set"`` solves the structure linearised about the unloaded state with tension-only
+        droppers exactly (a dropper whose force would drop below zero is removed, Woodbury update of
+        one factorisation); it neglects only geometric nonlinearity and is meant for bulk studies.
 
     Raises
     ------
     ModelError
-        If the force is not positive or implausibly large.
+        If the force is not positive or implausibly large, or the method is unknown.
     ConvergenceError
-        If an equilibrium re-solve fails.
+        If an equilibrium re-solve (or the active-set iteration) fails.
     """
     if not 0.0 < force <= 2000.0:
         raise ModelError(f"force = {force:g} N is outside the valid range (0, 2000] N")
+    if method not in METHODS:
+        raise ModelError(f"method = {method!r} is not one of {', '.join(METHODS)}")
     disc = state.discretisation
     span = disc.catenary.layout.central_span if span is None else span
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
-    shape = disc.cw_shape(stations)
-    z0 = state.positions[disc.cw_nodes, 2]
-    inside_element = disc.cw_element_compliance(stations)
-    elasticity = np.empty(len(positions))
-    slack = np.empty(len(positions), dtype=int)
-    previous = state
-    for i, station in enumerate(stations):
-        loaded = state.solve(disc.cw_load_vector(station, force), start=previous)
-        uplift = shape[i] @ (loaded.positions[disc.cw_nodes, 2] - z0)
-        elasticity[i] = float(uplift[0]) / force + inside_element[i]
-        slack[i] = int(np.count_nonzero(loaded.dropper_forces() <= 0.0))
-        previous = loaded
+    if method == "active-set":
+        uplift, slack = _ActiveSetModel.of(state).uplift(stations, force)
+    else:
+        uplift, slack = _newton_uplift(state, stations, force)
     return ElasticityCurve(
         span=span,
         span_length=float(positions[-1]),
         force=float(force),
         position=positions,
-        elasticity=elasticity,
+        elasticity=uplift / force + disc.cw_element_compliance(stations),
         slack_droppers=slack,
     )
+
+
+def _newton_uplift(state: EquilibriumState, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
+    """Nodal-interpolated uplift [m] and slack-dropper count at each station, full re-solves."""
+    disc = state.discretisation
+    shape = disc.cw_shape(stations)
+    z0 = state.positions[disc.cw_nodes, 2]
+    uplift = np.empty(len(stations))
+    slack = np.empty(len(stations), dtype=int)
+    previous = state
+    for i, station in enumerate(stations):
+        loaded = state.solve(disc.cw_load_vector(station, force), start=previous)
+        uplift[i] = float((shape[i] @ (loaded.positions[disc.cw_nodes, 2] - z0))[0])
+        slack[i] = int(np.count_nonzero(loaded.dropper_forces() <= 0.0))
+        previous = loaded
+    return uplift, slack
+
+
+@dataclass(frozen=True)
+class _ActiveSetModel:
+    """The unloaded structure linearised, with its droppers as tension-only constraints.
+
+    With S the set of slack droppers, equilibrium under a load p is
+    (K − G_S D_S G_Sᵀ) q = p + G_S f0_S, where G holds the droppers' length gradients, D their
+    stiffnesses and f0 their preloads. One factorisation of K and W = K⁻¹ G serve every load
+    position through the Woodbury identity; S is found by the usual active-set iteration.
+    """
+
+    gradients: np.ndarray  # (n_free, m) length gradients of the droppers
+    influence: np.ndarray  # W = K^-1 G
+    gram: np.ndarray  # G^T K^-1 G
+    preload: np.ndarray  # [N]
+    stiffness: np.ndarray  # [N/m]
+    state: EquilibriumState
+
+    @classmethod
+    def of(cls, state: EquilibriumState) -> "_ActiveSetModel":
+        if "active_set" not in state._cache:
+            disc = state.discretisation
+            free = state.model.functions.free_dofs
+            drops = disc.dropper_elements
+            ax = disc.axial
+            d = state.positions[ax.node_b[drops]] - state.positions[ax.node_a[drops]]
+            d /= np.linalg.norm(d, axis=1)[:, None]
+            full = np.zeros((disc.n_dofs, len(drops)))
+            cols = np.arange(len(drops))
+            for c in range(3):
+                full[3 * ax.node_b[drops] + c, cols] = d[:, c]
+                full[3 * ax.node_a[drops] + c, cols] = -d[:, c]
+            gradients = full[free]
+            influence = state.factorised_stiffness().solve(gradients)
+            state._cache["active_set"] = cls(
+                gradients, influence, gradients.T @ influence, state.dropper_forces(),
+                state.params.axial_stiffness[drops], state,
+            )
+        return state._cache["active_set"]
+
+    def uplift(self, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
+        """Nodal-interpolated uplift [m] and slack-dropper count at each station under ``force``."""
+        state = self.state
+        disc = state.discretisation
+        free = state.model.functions.free_dofs
+        shape = disc.cw_shape(stations)
+        nodes = np.unique(shape.indices)
+        rows = np.searchsorted(free, 3 * disc.cw_nodes[nodes] + 2)
+        unit = np.zeros((len(free), len(nodes)))
+        unit[rows, np.arange(len(nodes))] = 1.0
+        node_compliance = state.factorised_stiffness().solve(unit)
+        local = shape[:, nodes].toarray()
+        load_compliance = local @ node_compliance[rows] @ local.T  # P^T K^-1 P per station pair
+        load_influence = local @ self.influence[rows]  # P^T W, (stations, m)
+        uplift = np.empty(len(stations))
+        slack_count = np.empty(len(stations), dtype=int)
+        slack = np.zeros(len(self.preload), dtype=bool)
+        for i in range(len(stations)):
+            uplift[i], slack = self._solve(force, load_compliance[i, i], load_influence[i], slack)
+            slack_count[i] = int(slack.sum())
+        return uplift, slack_count
+
+    def _solve(self, force: float, c_pp: float, v_p: np.ndarray, slack: np.ndarray) -> tuple[float, np.ndarray]:
+        """Uplift at the load point and the slack set, starting the iteration from ``slack``."""
+        f0, k, gram = self.preload, self.stiffness, self.gram
+        for _ in range(4 * len(f0) + 10):
+            s = np.flatnonzero(slack)
+            # q0 = K^-1 (F P + G_S f0_S); y = G_S^T q0
+            stretch0 = force * v_p + gram[:, s] @ f0[s]
+            if len(s):
+                y = stretch0[s]
+                z = np.linalg.solve(np.diag(1.0 / k[s]) - gram[np.ix_(s, s)], y)
+                stretch = stretch0 + gram[:, s] @ z
+                uplift = force * c_pp + v_p[s] @ f0[s] + v_p[s] @ z
+            else:
+                stretch, uplift = stretch0, force * c_pp
+            would_carry = f0 + k * stretch
+            new_slack = would_carry < 0.0
+            if np.array_equal(new_slack, slack):
+                return float(uplift), slack
+            slack = new_slack
+        raise ConvergenceError(
+            f"active-set elasticity: the set of slack droppers did not settle under {force:g} N",
+            {"slack_droppers": int(slack.sum())},
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -272,6 +378,7 @@ def elasticity_study(
     step: float = 0.5,
     linear: bool = False,
     linear_step: float = 0.1,
+    method: str = "newton",
 ) -> ElasticityStudy:
     """Nonlinear elasticity curves at several forces, and optionally the linear curve.
 
@@ -289,11 +396,13 @@ def elasticity_study(
         Also compute the linear (tangent-stiffness) curve.
     linear_step : float
         Point spacing of the linear curve. [m]
+    method : {"newton", "active-set"}
+        Method of the nonlinear curves (see :func:`nonlinear_elasticity`).
     """
     span = state.catenary.layout.central_span if span is None else span
     if not forces and not linear:
         raise ModelError("forces is empty and linear is off: nothing to compute")
-    curves = [nonlinear_elasticity(state, f, span, step) for f in sorted(forces)]
+    curves = [nonlinear_elasticity(state, f, span, step, method) for f in sorted(forces)]
     if linear:
         curves.append(linear_elasticity(state, span, linear_step))
     return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves))
