@@ -142,16 +142,8 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     span = disc.catenary.layout.central_span if span is None else span
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
-    shape = disc.cw_shape(stations)
-    nodes = np.unique(shape.indices)
-    free = state.model.functions.free_dofs
-    rows = np.searchsorted(free, 3 * disc.cw_nodes[nodes] + 2)
-    if not np.array_equal(free[rows], 3 * disc.cw_nodes[nodes] + 2):
-        raise ModelError("a contact-wire node of the span is held fixed vertically; its elasticity is zero")
-    unit_loads = np.zeros((len(free), len(nodes)))
-    unit_loads[rows, np.arange(len(nodes))] = 1.0
-    compliance = state.factorised_stiffness().solve(unit_loads)[rows]
-    local = shape[:, nodes].toarray()
+    local, vertical = _vertical_load_shapes(state, stations)
+    compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
     elasticity = np.einsum("pi,ij,pj->p", local, compliance, local) + disc.cw_element_compliance(stations)
     return ElasticityCurve(
         span=span,
@@ -163,6 +155,24 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
 
 
 METHODS = ("newton", "active-set")
+
+
+def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shape functions at the stations over the contact-wire nodes involved, and unit vertical loads.
+
+    Returns ``local`` (stations × nodes) and ``vertical`` (free DOFs × nodes): column j is a unit
+    upward force on node j, or zero where that node is held vertically (its uplift is zero).
+    """
+    disc = state.discretisation
+    shape = disc.cw_shape(stations)
+    nodes = np.unique(shape.indices)
+    free = state.model.functions.free_dofs
+    dofs = 3 * disc.cw_nodes[nodes] + 2
+    rows = np.minimum(np.searchsorted(free, dofs), len(free) - 1)
+    movable = free[rows] == dofs
+    vertical = np.zeros((len(free), len(nodes)))
+    vertical[rows[movable], np.flatnonzero(movable)] = 1.0
+    return shape[:, nodes].toarray(), vertical
 
 
 def nonlinear_elasticity(
@@ -277,23 +287,15 @@ class _ActiveSetModel:
 
     def uplift(self, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
         """Nodal-interpolated uplift [m] and slack-dropper count at each station under ``force``."""
-        state = self.state
-        disc = state.discretisation
-        free = state.model.functions.free_dofs
-        shape = disc.cw_shape(stations)
-        nodes = np.unique(shape.indices)
-        rows = np.searchsorted(free, 3 * disc.cw_nodes[nodes] + 2)
-        unit = np.zeros((len(free), len(nodes)))
-        unit[rows, np.arange(len(nodes))] = 1.0
-        node_compliance = state.factorised_stiffness().solve(unit)
-        local = shape[:, nodes].toarray()
-        load_compliance = local @ node_compliance[rows] @ local.T  # P^T K^-1 P per station pair
-        load_influence = local @ self.influence[rows]  # P^T W, (stations, m)
+        local, vertical = _vertical_load_shapes(self.state, stations)
+        compliance = vertical.T @ self.state.factorised_stiffness().solve(vertical)
+        load_compliance = np.einsum("pi,ij,pj->p", local, compliance, local)  # P^T K^-1 P
+        load_influence = local @ (vertical.T @ self.influence)  # P^T W, (stations, m)
         uplift = np.empty(len(stations))
         slack_count = np.empty(len(stations), dtype=int)
         slack = np.zeros(len(self.preload), dtype=bool)
         for i in range(len(stations)):
-            uplift[i], slack = self._solve(force, load_compliance[i, i], load_influence[i], slack)
+            uplift[i], slack = self._solve(force, load_compliance[i], load_influence[i], slack)
             slack_count[i] = int(slack.sum())
         return uplift, slack_count
 

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import GRAVITY, Catenary, SpringSupport, SteadyArm
+from presag_opt.system.catenary import GRAVITY, Catenary, SpringSupport, SteadyArm, Wire
 from presag_opt.system.quantity import quantity, validate_fields
 
 # Axial element groups.
@@ -56,7 +56,7 @@ class StaticSettings:
         Shortest buildable dropper; form-finding fails with a ModelError below it. [m]
     """
 
-    element_length: float = quantity("length", 0.05, 5.0, default=0.5)
+    element_length: float = quantity("length", 0.01, 5.0, default=0.5)
     force_tolerance: float = quantity("force", 1e-8, 1.0, default=1e-4)
     geometry_tolerance: float = quantity("length", 1e-9, 1e-3, default=5e-5)
     max_newton_iterations: int = 60
@@ -102,8 +102,10 @@ class Discretisation:
 
     Attributes
     ----------
-    catenary : Catenary
-        The system discretised.
+    catenary : Catenary or None
+        The system discretised (None for a lone wire, see :func:`discretise_lone_wire`).
+    cw_tension : float
+        Contact-wire tension. [N]
     settings : StaticSettings
         Numerical settings used.
     design_positions : ndarray, shape (n_nodes, 3)
@@ -140,7 +142,8 @@ class Discretisation:
         Balance-weight pulls at the wire ends. [N]
     """
 
-    catenary: Catenary
+    catenary: Catenary | None
+    cw_tension: float
     settings: StaticSettings
     design_positions: np.ndarray
     node_mass: np.ndarray
@@ -229,7 +232,7 @@ class Discretisation:
         right = np.clip(np.searchsorted(self.cw_station, s, side="right"), 1, len(self.cw_station) - 1)
         h = self.cw_station[right] - self.cw_station[right - 1]
         t = np.clip((s - self.cw_station[right - 1]) / h, 0.0, 1.0)
-        return h * t * (1.0 - t) / self.catenary.contact_wire.tension
+        return h * t * (1.0 - t) / self.cw_tension
 
     def span_of_station(self, station: float) -> int:
         """Span (from 0) containing an along-track station."""
@@ -433,6 +436,7 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
                                  spacing_bc=empty_f, bending_stiffness=empty_f)
     return Discretisation(
         catenary=cat,
+        cw_tension=cat.contact_wire.tension,
         settings=settings,
         design_positions=all_pos,
         node_mass=node_mass,
@@ -454,6 +458,81 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
         spring_dofs=np.asarray(springs_dof, dtype=int),
         spring_stiffness=np.asarray(springs_k, dtype=float),
         spring_masts=np.asarray(springs_mast, dtype=int),
+        fixed_dofs=fixed.ravel(),
+        termination_force=termination,
+    )
+
+
+def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | None = None) -> Discretisation:
+    """A single straight wire pinned at both ends, held by a balance weight at its far end.
+
+    For analytic checks (string and tensioned-beam solutions) and wave-propagation tests: the
+    wire lies along x at z = 0, both ends are held laterally and vertically, the near end also
+    along the track, and the far end is pulled along the track by the wire tension. It has two
+    "masts" (its ends) and one span.
+
+    Parameters
+    ----------
+    wire : Wire
+        Tension, mass, EA and EI of the wire.
+    length : float
+        Distance between the supports. [m]
+    settings : StaticSettings, optional
+        Element length.
+    """
+    settings = settings or StaticSettings()
+    if not 0.1 <= length <= 10000.0:
+        raise ModelError(f"length = {length:g} m is outside the valid range [0.1, 10000] m")
+    n = max(2, math.ceil(length / settings.element_length - 1e-9))
+    station = np.linspace(0.0, length, n + 1)
+    positions = np.column_stack([station, np.zeros(n + 1), np.zeros(n + 1)])
+    h = np.diff(station)
+    node_mass = np.zeros(n + 1)
+    np.add.at(node_mass, np.arange(n), 0.5 * wire.mass_per_length * h)
+    np.add.at(node_mass, np.arange(1, n + 1), 0.5 * wire.mass_per_length * h)
+    unstretched = h / (1.0 + wire.tension / wire.axial_stiffness)
+    fixed = np.zeros((n + 1, 3), dtype=bool)
+    fixed[[0, n], 1:] = True
+    fixed[0, 0] = True
+    termination = np.zeros(3 * (n + 1))
+    termination[3 * n] = wire.tension
+    nodes = np.arange(n + 1)
+    empty = np.zeros(0, dtype=int)
+    has_bending = wire.bending_stiffness > 0.0
+    return Discretisation(
+        catenary=None,
+        cw_tension=wire.tension,
+        settings=settings,
+        design_positions=positions,
+        node_mass=node_mass,
+        cw_nodes=nodes,
+        mw_nodes=empty,
+        cw_station=station,
+        mast_station=np.array([0.0, length]),
+        mast_cw_node=np.array([0, n]),
+        mast_mw_node=empty,
+        mast_normal=np.array([[0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]),
+        axial=AxialElements(
+            node_a=nodes[:-1], node_b=nodes[1:], stiffness=wire.axial_stiffness / unstretched,
+            design_length=h, group=np.full(n, CONTACT_WIRE),
+        ),
+        bending=BendingTriples(
+            node_a=nodes[:-2] if has_bending else empty,
+            node_b=nodes[1:-1] if has_bending else empty,
+            node_c=nodes[2:] if has_bending else empty,
+            spacing_ab=h[:-1] if has_bending else np.zeros(0),
+            spacing_bc=h[1:] if has_bending else np.zeros(0),
+            bending_stiffness=np.full(n - 1, wire.bending_stiffness) if has_bending else np.zeros(0),
+        ),
+        dropper_elements=empty,
+        dropper_span=empty,
+        dropper_position=np.zeros(0),
+        arm_elements=empty,
+        arm_pivot_nodes=empty,
+        arm_masts=empty,
+        spring_dofs=empty,
+        spring_stiffness=np.zeros(0),
+        spring_masts=empty,
         fixed_dofs=fixed.ravel(),
         termination_force=termination,
     )

@@ -24,10 +24,11 @@ from presag_opt.static.discretisation import (
     Discretisation,
     StaticSettings,
     discretise,
+    discretise_lone_wire,
 )
 from presag_opt.static.linalg import Factor
 from presag_opt.static.symbolic import PhysicalParameters, PotentialFunctions, build_potential, solve_form_finding
-from presag_opt.system.catenary import Catenary
+from presag_opt.system.catenary import Catenary, Wire
 
 
 @dataclass(frozen=True)
@@ -277,6 +278,34 @@ def newton_equilibrium(
     )
 
 
+def lone_wire_state(wire: Wire, length: float, settings: StaticSettings | None = None) -> EquilibriumState:
+    """Equilibrium of a lone wire pinned at both ends (see :func:`discretise_lone_wire`), under gravity.
+
+    Parameters
+    ----------
+    wire : Wire
+        Tension, mass, EA and EI. A massless wire stays straight.
+    length : float
+        Distance between the supports. [m]
+    settings : StaticSettings, optional
+        Numerical settings.
+    """
+    settings = settings or StaticSettings()
+    disc = discretise_lone_wire(wire, length, settings)
+    model = StaticModel(disc, build_potential(disc))
+    params = PhysicalParameters(
+        axial_stiffness=disc.axial.stiffness,
+        unstretched_length=disc.axial.design_length / (1.0 + wire.tension / wire.axial_stiffness),
+        slack_allowed=np.zeros(len(disc.axial)),
+        bending_stiffness=disc.bending.bending_stiffness,
+        spring_stiffness=np.zeros(0),
+        spring_reference=np.zeros(0),
+        nodal_force=disc.gravity_force() + disc.termination_force,
+    )
+    x, iterations = newton_equilibrium(model, params, disc.design_positions.ravel(), settings)
+    return EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), iterations)
+
+
 def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> EquilibriumState:
     """Find the dropper lengths and support settings that give the target contact-wire geometry.
 
@@ -396,6 +425,7 @@ __all__ = [
     "EquilibriumState",
     "StaticModel",
     "form_find",
+    "lone_wire_state",
     "newton_equilibrium",
     "static_model",
     "STEADY_ARM",
