@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -10,6 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from presag_opt.elasticity import ElasticityStudy  # noqa: E402
+
+if TYPE_CHECKING:
+    from presag_opt.presag import Recommendation, SingleCurveError
 
 
 def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
@@ -32,6 +37,87 @@ def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     ax.set_title(f"{study.catenary_name}: span {study.span + 1}")
     ax.grid(True, alpha=0.3)
     ax.legend()
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+def plot_presag_against_force(recommendation: Recommendation, path: str | Path) -> Path:
+    """Quasi-static pre-sag against the mean contact force, both variants, every layout (like Fig. 5a).
+
+    Solid lines use e_mid − e_mast, dashed lines Δe = e_max − e_min; the shaded band is the
+    operating F_m band and the horizontal line the recommended S_rel. The right axis gives S on a
+    span of the nominal length.
+
+    Parameters
+    ----------
+    recommendation : Recommendation
+        Result of :func:`presag_opt.presag.recommend`.
+    path : str or Path
+        Output file; the suffix selects the format (png, pdf, svg).
+
+    References
+    ----------
+    Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Fig. 5a.
+    """
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for i, lay in enumerate(recommendation.layouts):
+        color = f"C{i}"
+        label = f"{lay.layout_kind}: {lay.catenary_name}"
+        ax.plot(lay.mean_forces, lay.presag_rel_mid_mast * 1e3, "-", color=color, label=f"{label}, e_mid − e_mast")
+        ax.plot(lay.mean_forces, lay.presag_rel_delta_e * 1e3, "--", color=color, label=f"{label}, Δe")
+    low, high = recommendation.mean_force_band
+    ax.axvspan(low, high, color="0.9", zorder=0, label=f"F_m band {low:.0f}–{high:.0f} N")
+    ax.axhline(recommendation.presag_rel * 1e3, color="k", lw=0.8, label=f"recommended {recommendation.presag_rel * 1e3:.2f} ‰")
+    ax.set_xlabel("mean contact force F_m [N]")
+    ax.set_ylabel("relative pre-sag S_rel [‰]")
+    span = recommendation.nominal_span_length
+    right = ax.secondary_yaxis("right", functions=(lambda r: r * span, lambda s: s / span))
+    right.set_ylabel(f"pre-sag S on a {span:g} m span [mm]")
+    ax.set_title(f"Quasi-static pre-sag ({recommendation.method} range)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Path) -> Path:
+    """Pre-sag from interpolated curves against one curve, and the relative error (like Fig. 5b).
+
+    Parameters
+    ----------
+    studies : sequence of SingleCurveError
+        One per geometry (e.g. 30 mm and 70 mm pre-sag).
+    path : str or Path
+        Output file; the suffix selects the format (png, pdf, svg).
+
+    References
+    ----------
+    Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Fig. 5b.
+    """
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for i, study in enumerate(studies):
+        color = f"C{i}"
+        geometry = f"{study.geometry_presag * 1e3:.0f} mm geometry"
+        top.plot(study.mean_forces, study.presag_interpolated * 1e3, "-", color=color, label=f"{geometry}, interpolated")
+        top.plot(
+            study.mean_forces, study.presag_single_curve * 1e3, ":", color=color,
+            label=f"{geometry}, {study.reference_force:g} N curve only",
+        )
+        bottom.plot(study.mean_forces, study.relative_error * 100, "-", color=color, label=geometry)
+    top.set_ylabel("pre-sag S [mm]")
+    top.grid(True, alpha=0.3)
+    top.legend(fontsize=7)
+    bottom.set_xlabel("mean contact force F_m [N]")
+    bottom.set_ylabel("relative error [%]")
+    bottom.grid(True, alpha=0.3)
+    bottom.legend(fontsize=7)
+    fig.suptitle(f"One elasticity curve instead of interpolation ({studies[0].catenary_name})" if studies else "")
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=150)

@@ -15,7 +15,12 @@ droppers are vertical in the design state.
 
 A tension section is held at constant tension by balance weights at both ends: the end nodes are free
 along the track and pulled outwards by the wire tension; a mid-point anchor (the along-track degree of
-freedom of both wires at the central mast) removes the rigid sliding of the wires.
+freedom of both wires at the central mast) removes the rigid sliding of the wires. The messenger wire
+is pinned at the masts vertically and across the track but slides along it (swivelling cantilevers):
+a sagging cable changes its length at first order under uplift, and holding it along the track too
+would stiffen mid-span elasticity by about 12 % on ST 9,8/9,8. On curves, where the mast normal is
+not the y axis, the across-track hold is a stiff spring along the normal
+(:data:`PIN_STIFFNESS`). Spring supports (EN 50318 style) are for straight track only.
 
 Plan geometry: masts lie on the track centre line, which is straight or, per span, a circular arc;
 the contact wire is registered ``±stagger`` off the centre line, alternating, and the messenger wire
@@ -36,6 +41,9 @@ from presag_opt.system.quantity import quantity, validate_fields
 # Axial element groups.
 CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM = 0, 1, 2, 3
 GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm")
+
+PIN_STIFFNESS = 1e9
+"""Across-track stiffness of a messenger-wire pin on a curve: a kink force of ~1 kN moves it 1 μm. [N/m]"""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -136,6 +144,9 @@ class Discretisation:
         Ground springs: degree of freedom and stiffness. [-], [N/m]
     spring_masts : ndarray of int
         Mast of each ground spring.
+    pin_nodes, pin_normals : ndarray
+        Messenger-wire pins on curves: node and the horizontal direction they hold (stiffness
+        :data:`PIN_STIFFNESS`).
     fixed_dofs : ndarray of bool, shape (3 n_nodes,)
         Degrees of freedom held fixed in equilibrium (supports, anchor, pivots).
     termination_force : ndarray, shape (3 n_nodes,)
@@ -165,6 +176,8 @@ class Discretisation:
     spring_dofs: np.ndarray
     spring_stiffness: np.ndarray
     spring_masts: np.ndarray
+    pin_nodes: np.ndarray
+    pin_normals: np.ndarray
     fixed_dofs: np.ndarray
     termination_force: np.ndarray
 
@@ -374,15 +387,21 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
             node_mass[node] += support.mass
             fixed[node, 1] = True  # a spring support has no lateral freedom of its own
     mw_support = cat.messenger_wire_support
+    pin_nodes, pin_normals = [], []
     for m, node in enumerate(mast_mw):
-        fixed[node, 1] = True
         if isinstance(mw_support, SpringSupport):
+            fixed[node, 1] = True
             springs_dof.append(3 * node + 2)
             springs_k.append(mw_support.stiffness)
             springs_mast.append(m)
             node_mass[node] += mw_support.mass
+        elif abs(normal[m, 0]) < 1e-12:
+            fixed[node, 1:] = True
         else:
+            # On a curve the pin holds the wire across the track (along the mast normal), not along y.
             fixed[node, 2] = True
+            pin_nodes.append(node)
+            pin_normals.append(normal[m])
 
     if arm_a:
         fixed = np.vstack([fixed, np.ones((len(arm_a), 3), dtype=bool)])
@@ -458,6 +477,8 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
         spring_dofs=np.asarray(springs_dof, dtype=int),
         spring_stiffness=np.asarray(springs_k, dtype=float),
         spring_masts=np.asarray(springs_mast, dtype=int),
+        pin_nodes=np.asarray(pin_nodes, dtype=int),
+        pin_normals=np.asarray(pin_normals, dtype=float).reshape(-1, 3),
         fixed_dofs=fixed.ravel(),
         termination_force=termination,
     )
@@ -533,6 +554,8 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
         spring_dofs=empty,
         spring_stiffness=np.zeros(0),
         spring_masts=empty,
+        pin_nodes=empty,
+        pin_normals=np.zeros((0, 3)),
         fixed_dofs=fixed.ravel(),
         termination_force=termination,
     )

@@ -340,11 +340,9 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     ax = disc.axial
     x_design = disc.design_positions.ravel()
 
-    wire_tension = np.zeros(len(ax))
-    axial_stiffness = {}
-    for group, wire in ((CONTACT_WIRE, catenary.contact_wire), (MESSENGER_WIRE, catenary.messenger_wire)):
-        wire_tension[ax.group == group] = wire.tension
-        axial_stiffness[group] = wire.axial_stiffness
+    wire_tension = _horizontal_wire_tension(disc)
+    axial_stiffness = {CONTACT_WIRE: catenary.contact_wire.axial_stiffness,
+                       MESSENGER_WIRE: catenary.messenger_wire.axial_stiffness}
     # First guess of the dropper preload: the contact-wire weight between neighbouring droppers.
     first_guess = ax.design_length.copy()
     drop_station = disc.cw_station[np.searchsorted(disc.cw_nodes, ax.node_a[disc.dropper_elements])]
@@ -363,31 +361,82 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     drop_cw = ax.node_a[disc.dropper_elements]
     mw_springs = disc.spring_dofs[np.isin(disc.spring_dofs // 3, disc.mast_mw_node)]
     target_dofs = np.concatenate([3 * drop_cw + 2, 3 * disc.mast_cw_node + 2, mw_springs]).astype(int)
-    solution = solve_form_finding(disc, params, wire_tension, target_dofs, x_design)
+    targets = x_design[target_dofs]
+    start = x_design
+    iterations = 0
+    # Pass 1 holds the wire nodes at their designed places along the wires; the 3-D relaxation
+    # that follows lets them slide a little (on curves, enough to move the contact wire by a few
+    # tenths of a millimetre), so a further pass starts from the relaxed places.
+    for _ in range(FORM_FINDING_PASSES):
+        solution = solve_form_finding(disc, params, wire_tension, target_dofs, start)
+        params = _form_found_parameters(disc, params, solution, wire_tension, axial_stiffness)
+        x, newton_iterations = newton_equilibrium(model, params, solution.positions.ravel(), settings)
+        iterations += solution.iterations + newton_iterations
+        if np.abs(x[target_dofs] - targets).max() <= settings.geometry_tolerance:
+            break
+        start = x.copy()
+        start[target_dofs] = targets
+    state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), iterations)
+    _check_form_found(state, target_dofs, targets)
+    return state
 
-    # Unstretched wire lengths that carry the horizontal tension H in the form-found shape:
-    # N = H·L/l_h and N = EA (L − L0)/L0.
+
+def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
+    """Horizontal tension of every wire segment in the design state (0 for other elements). [N]
+
+    A balance weight pulls with T along the track; where the end chord of a wire is turned by φ
+    against the track (stagger, curve), balance along the track at the end (the steady arm lies in
+    the mast plane) gives the wire a horizontal tension T/cos φ. The mid-point anchor separates the
+    two halves, each set by its own end.
+    """
+    ax = disc.axial
+    pos = disc.design_positions
+    tension = np.zeros(len(ax))
+    anchor = (len(disc.mast_station) - 1) // 2  # mast index of the mid-point anchor
+    for group, nodes in ((CONTACT_WIRE, disc.cw_nodes), (MESSENGER_WIRE, disc.mw_nodes)):
+        segments = np.flatnonzero(ax.group == group)  # in order along the wire
+        if not len(segments):
+            continue
+        halves = []
+        for end, inner in ((nodes[0], nodes[1]), (nodes[-1], nodes[-2])):
+            chord = pos[end] - pos[inner]
+            chord[2] = 0.0
+            pull = disc.termination_force[3 * end : 3 * end + 3]
+            cos_phi = float(pull @ chord) / (np.linalg.norm(pull) * np.linalg.norm(chord))
+            halves.append(float(np.linalg.norm(pull)) / cos_phi)
+        split = int(np.searchsorted(disc.cw_station, disc.mast_station[anchor]))
+        tension[segments[:split]] = halves[0]
+        tension[segments[split:]] = halves[1]
+    return tension
+
+
+FORM_FINDING_PASSES = 3
+"""Form-finding passes at most (one on straight track, two on curves in practice). [-]"""
+
+
+def _form_found_parameters(disc, params, solution, wire_tension, axial_stiffness) -> PhysicalParameters:
+    """Element lengths after a form-finding pass.
+
+    Wire segments get the unstretched length that carries the horizontal tension H in the
+    form-found shape (N = H·L/l_h and N = EA (L − L0)/L0); droppers get the solved lengths; the
+    droppers become tension-only.
+    """
+    ax = disc.axial
     positions = solution.positions
     lengths = np.linalg.norm(positions[ax.node_b] - positions[ax.node_a], axis=1)
     horizontal = np.linalg.norm(positions[ax.node_b, :2] - positions[ax.node_a, :2], axis=1)
-    unstretched = ax.design_length.copy()
-    stiffness = ax.stiffness.copy()
+    unstretched = params.unstretched_length.copy()
+    stiffness = params.axial_stiffness.copy()
     for group, ea in axial_stiffness.items():
         sel = ax.group == group
         force = wire_tension[sel] * lengths[sel] / horizontal[sel]
         unstretched[sel] = lengths[sel] * ea / (ea + force)
         stiffness[sel] = ea / unstretched[sel]
     unstretched[disc.dropper_elements] = solution.dropper_unstretched_length
-    params = PhysicalParameters(
+    return PhysicalParameters(
         **{**params.__dict__, "axial_stiffness": stiffness, "unstretched_length": unstretched,
            "slack_allowed": (ax.group == DROPPER).astype(float), "spring_reference": solution.spring_reference}
     )
-    # The plan-fixed solution leaves only the bending of the contact wire round its registration
-    # kinks unbalanced across the track; a full 3-D Newton solve settles it.
-    x, iterations = newton_equilibrium(model, params, positions.ravel(), settings)
-    state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), solution.iterations + iterations)
-    _check_form_found(state, target_dofs, x_design[target_dofs])
-    return state
 
 
 def _check_form_found(state: EquilibriumState, target_dofs: np.ndarray, targets: np.ndarray) -> None:

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.errors import ConvergenceError
-from presag_opt.static.discretisation import Discretisation
+from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
 from presag_opt.static.linalg import BandedSolver
 
 POTENTIAL_INPUTS = (
@@ -93,10 +93,15 @@ def _bending_energy(disc: Discretisation, x, ei):
 
 
 def _spring_energy(disc: Discretisation, x, ks, ref):
-    """Energy of the ground springs."""
-    if not len(disc.spring_dofs):
-        return 0
-    return ca.sum1(0.5 * ks * (x[disc.spring_dofs.tolist()] - ref) ** 2)
+    """Energy of the ground springs and of the messenger-wire pins on curves."""
+    energy = 0
+    if len(disc.spring_dofs):
+        energy += ca.sum1(0.5 * ks * (x[disc.spring_dofs.tolist()] - ref) ** 2)
+    if len(disc.pin_nodes):
+        X = ca.reshape(x, 3, disc.n_nodes).T
+        offset = X[disc.pin_nodes.tolist(), :] - ca.DM(disc.design_positions[disc.pin_nodes])
+        energy += ca.sum1(0.5 * PIN_STIFFNESS * ca.sum2(offset * ca.DM(disc.pin_normals)) ** 2)
+    return energy
 
 
 def _potential_expression(disc: Discretisation, x, k, L0, slack, ei, ks, ref, f):
@@ -256,16 +261,18 @@ def solve_form_finding(
     n_arm = len(reg_nodes)
     # Wire nodes that may move across their wire (in plan, perpendicular to it); their position
     # along the wire stays where the design puts it.
-    wire_nodes = np.concatenate([disc.cw_nodes, disc.mw_nodes])
-    sideways = ~fixed[wire_nodes, 1] & ~np.isin(wire_nodes, reg_nodes)
-    side_nodes = wire_nodes[sideways]
-    order = np.concatenate([disc.cw_nodes, disc.mw_nodes])
-    position_in_wire = {node: i for i, node in enumerate(order)}
-    across_dir = np.zeros((len(side_nodes), 3))
-    for i, node in enumerate(side_nodes):
-        k = position_in_wire[node]
-        tangent = base[order[k + 1]] - base[order[k - 1]]
-        across_dir[i] = np.array([-tangent[1], tangent[0], 0.0]) / np.linalg.norm(tangent[:2])
+    side_nodes, across = [], []
+    for wire in (disc.cw_nodes, disc.mw_nodes):
+        if not len(wire):
+            continue
+        movable = ~fixed[wire, 1] & ~np.isin(wire, reg_nodes)
+        k = np.flatnonzero(movable)
+        tangent = base[wire[np.minimum(k + 1, len(wire) - 1)]] - base[wire[np.maximum(k - 1, 0)]]
+        side_nodes.append(wire[k])
+        across.append(np.column_stack([-tangent[:, 1], tangent[:, 0], np.zeros(len(k))])
+                      / np.linalg.norm(tangent[:, :2], axis=1)[:, None])
+    side_nodes = np.concatenate(side_nodes)
+    across_dir = np.concatenate(across)
 
     v_z = ca.SX.sym("height", len(z_unknown))
     v_side = ca.SX.sym("sideways", len(side_nodes))

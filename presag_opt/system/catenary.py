@@ -323,6 +323,14 @@ class Catenary:
         positions = self.droppers.positions_in_span(shortest)
         if len(positions) < 2:
             raise ModelError(f"droppers: a span of {shortest:g} m gets fewer than two droppers")
+        springs = isinstance(self.contact_wire_support, SpringSupport) or isinstance(
+            self.messenger_wire_support, SpringSupport
+        )
+        if springs and any(self.layout.radii):
+            raise ModelError(
+                "layout.curve_radii: spring supports model straight track only; use a steady_arm contact-wire "
+                "support and a pin messenger-wire support on curves"
+            )
         if isinstance(self.contact_wire_support, SteadyArm) and self.stagger == 0.0 and not any(self.layout.radii):
             raise ModelError(
                 "stagger = 0 m on straight track leaves a steady arm without lateral pull (it would have no "

@@ -78,9 +78,9 @@ def read_toml(path: Path) -> dict[str, Any]:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"{path}: not valid TOML ({exc})") from None
+        raise ModelError(f"{path.name}: not valid TOML ({exc})") from None
     except OSError as exc:
-        raise ModelError(f"{path}: cannot be read ({exc.strerror})") from None
+        raise ModelError(f"{path.name}: cannot be read ({exc.strerror})") from None
 
 
 def parse_quantity(entry: Any, spec: dict[str, Any], key: str, provenance: dict[str, Provenance]) -> Any:

@@ -1,0 +1,295 @@
+"""``presag empirical`` and ``presag recommend`` (the case study by default)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+
+from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.errors import ModelError
+from presag_opt.presag import (
+    CASE_STUDY_BAND,
+    CASE_STUDY_MODELS,
+    CASE_STUDY_SPAN_LENGTH,
+    EMPIRICAL_K,
+    KMH,
+    PRESAG_METHODS,
+    EmpiricalPresag,
+    OperatingBand,
+    Recommendation,
+    compare_with_paper,
+    recommend,
+)
+from presag_opt.static.discretisation import StaticSettings
+
+PROGRESS_DELAY = 2.0
+"""Seconds of work after which progress is shown (on a terminal only). [s]"""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the pre-sag sub-commands."""
+    p = subparsers.add_parser(
+        "empirical",
+        help="empirical pre-sag rule (paper eq. 1-3, Table 1)",
+        description="Empirical pre-sag: e_mid = l/(k (T_CW + T_MW)), e_mast = 0.5…0.3 e_mid, "
+        "S = F_stat (e_mid − e_mast), S_rel = S/l.",
+    )
+    p.add_argument("--tension", default="9.8/9.8", help="contact/messenger wire tension in kN, e.g. 9.8/9.8 (default)")
+    p.add_argument("--span", type=positive_float, default=CASE_STUDY_SPAN_LENGTH, help="span length in m (default 60)")
+    p.add_argument("--static-force", type=positive_float, default=140.0, help="static contact force in N (default 140)")
+    p.add_argument("--k", type=positive_float, default=EMPIRICAL_K, help=f"factor k of eq. 1 (default {EMPIRICAL_K:g})")
+    add_json_flag(p)
+    p.set_defaults(handler=empirical_command)
+
+    band = CASE_STUDY_BAND
+    p = subparsers.add_parser(
+        "recommend",
+        help="recommend a pre-sag for an operating band (default: the paper's case study)",
+        description="Quasi-static pre-sag over a band of static forces and speeds, for ideal and mixed span "
+        "layouts; without options, the case study of Schick, Liu & Stichel (2025): ST 9,8/9,8, F_stat 70–140 N, "
+        "up to 90 km/h, α_ae = 0.00097 N/(km/h)².",
+    )
+    p.add_argument(
+        "--models", default=",".join(CASE_STUDY_MODELS),
+        help=f"comma-separated model files or built-in names (default {','.join(CASE_STUDY_MODELS)})",
+    )
+    p.add_argument(
+        "--static-force", type=float_list, default=[band.static_force_low, band.static_force_high],
+        help="static contact force band LOW,HIGH in N, or one value (default 70,140)",
+    )
+    p.add_argument("--min-speed", type=positive_float, default=band.speed_low / KMH, help="lowest speed in km/h (default 0)")
+    p.add_argument("--max-speed", type=positive_float, default=band.speed_high / KMH, help="highest speed in km/h (default 90)")
+    p.add_argument(
+        "--aero", type=positive_float, default=band.aero_coefficient * KMH**2,
+        help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
+    )
+    p.add_argument("--method", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
+    p.add_argument("--force-levels", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
+    p.add_argument("--step", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
+    p.add_argument("--elasticity-method", default="active-set", help="nonlinear elasticity: active-set (default, fast) or newton")
+    p.add_argument("--element-length", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
+    p.add_argument(
+        "--span-length", type=positive_float, default=CASE_STUDY_SPAN_LENGTH,
+        help="span length the recommended pre-sag is stated for, in m (default 60)",
+    )
+    p.add_argument("--recompute", action="store_true", help="also recompute the elasticity at the recommended pre-sag geometry")
+    p.add_argument("--per-span", action="store_true", help="print the pre-sag of every span of the mixed layouts")
+    p.add_argument("--compare-paper", action="store_true", help="add our Table 1, Table 2, Fig. 5b and recommendation beside the paper's")
+    p.add_argument("--plot", metavar="FILE", default=None, help="save S against F_m, both variants and layouts (like Fig. 5a)")
+    p.add_argument("--plot-single-curve", metavar="FILE", default=None, help="with --compare-paper: save the Fig. 5b study")
+    add_json_flag(p)
+    p.set_defaults(handler=recommend_command)
+
+
+class Progress:
+    """Progress messages on standard error, shown only on a terminal and after a delay.
+
+    Parameters
+    ----------
+    delay : float
+        Seconds of work before the first message is shown. [s]
+    """
+
+    def __init__(self, delay: float = PROGRESS_DELAY):
+        self.start = time.monotonic()
+        self.delay = delay
+        self.enabled = sys.stderr.isatty()
+        self.shown = False
+
+    def __call__(self, message: str) -> None:
+        if self.enabled and time.monotonic() - self.start >= self.delay:
+            print(f"\r\033[K{message} …", end="", file=sys.stderr, flush=True)
+            self.shown = True
+
+    def close(self) -> None:
+        """Clear the progress line."""
+        if self.shown:
+            print("\r\033[K", end="", file=sys.stderr, flush=True)
+
+
+def parse_tension(text: str) -> tuple[float, float]:
+    """``CW/MW`` (or one value for both) in kN, to N."""
+    parts = text.split("/")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2):
+        raise ModelError(f"--tension = {text!r}: give the contact and messenger wire tensions in kN as CW/MW, e.g. 9.8/9.8")
+    cw, mw = values if len(values) == 2 else values * 2
+    return cw * 1e3, mw * 1e3
+
+
+def empirical_command(args: argparse.Namespace) -> int:
+    cw, mw = parse_tension(args.tension)
+    rule = EmpiricalPresag(
+        span_length=args.span, contact_wire_tension=cw, messenger_wire_tension=mw, static_force=args.static_force, k=args.k
+    )
+    if args.json:
+        print_json(rule.to_dict())
+        return 0
+    printed = rule.printed()
+    print(
+        f"Empirical pre-sag: T = {cw / 1e3:g}/{mw / 1e3:g} kN, l = {rule.span_length:g} m, "
+        f"F_stat = {rule.static_force:g} N, k = {rule.k:g}"
+    )
+    print(f"e_mid = l/(k (T_CW + T_MW)) = {rule.e_mid * 1e3:.4f} mm/N\n")
+    print(table(
+        ["e_mast/e_mid", "e_mast [mm/N]", "S [mm]", "S_rel [‰]"],
+        [(r, e * 1e3, s * 1e3, s_rel * 1e3) for r, e, s, s_rel in zip(rule.e_mast_ratios, rule.e_mast, rule.presag, rule.presag_rel)],
+        ["{:g}", "{:.4f}", "{:.2f}", "{:.3f}"],
+    ))
+    s_lo, s_hi = printed["presag_mm"]
+    r_lo, r_hi = printed["presag_rel_permille"]
+    print(
+        f"\nAs the paper's Table 1 prints it: e_mid {printed['e_mid_mm_per_N']:.3f} mm/N, S {s_lo:.0f}–{s_hi:.0f} mm, "
+        f"S_rel {r_lo:.2f}–{r_hi:.2f} ‰ (S rounded to mm, then divided by l)"
+    )
+    return 0
+
+
+def operating_band(args: argparse.Namespace) -> OperatingBand:
+    """The band from the command-line options (validated by :class:`OperatingBand`)."""
+    forces = args.static_force
+    if len(forces) not in (1, 2):
+        raise ModelError(f"--static-force has {len(forces)} values; give LOW,HIGH in N or one value")
+    low, high = (forces * 2)[:2] if len(forces) == 1 else forces
+    return OperatingBand(
+        static_force_low=low,
+        static_force_high=high,
+        speed_low=args.min_speed * KMH,
+        speed_high=args.max_speed * KMH,
+        aero_coefficient=args.aero / KMH**2,
+    )
+
+
+def recommend_command(args: argparse.Namespace) -> int:
+    if args.plot_single_curve and not args.compare_paper:
+        raise ModelError("--plot-single-curve needs --compare-paper (the Fig. 5b study is part of the comparison)")
+    models = [m.strip() for m in args.models.split(",") if m.strip()]
+    band = operating_band(args)
+    progress = Progress()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            common = dict(
+                step=args.step, elasticity_method=args.elasticity_method,
+                settings=StaticSettings(element_length=args.element_length), progress=progress,
+            )
+            result = recommend(
+                models=models, band=band, method=args.method, force_levels=args.force_levels,
+                nominal_span_length=args.span_length, recompute_at_recommended=args.recompute, **common,
+            )
+            comparison = compare_with_paper(result, **common) if args.compare_paper else None
+        finally:
+            progress.close()
+    for message in dict.fromkeys(str(w.message) for w in caught):
+        print(f"presag: warning: {message}", file=sys.stderr)
+    if args.plot:
+        from presag_opt.plotting import plot_presag_against_force
+
+        plot_presag_against_force(result, args.plot)
+    if args.plot_single_curve:
+        from presag_opt.plotting import plot_single_curve_error
+
+        plot_single_curve_error(comparison.single_curve_errors, args.plot_single_curve)
+    if args.json:
+        out = result.to_dict()
+        if comparison is not None:
+            out["paper_comparison"] = comparison.to_dict()
+        print_json(out)
+        return 0
+    print_recommendation(result, per_span=args.per_span)
+    if result.recomputed is not None:
+        again = result.recomputed
+        print(f"\nRecomputed at the recommended geometry (S_rel = {result.presag_rel * 1e3:.2f} ‰):")
+        print(layout_table(again))
+        print(
+            f"Recommended S_rel {again.presag_rel * 1e3:.2f} ‰ = {again.presag * 1e3:.0f} mm on "
+            f"{again.nominal_span_length:g} m (first pass {result.presag_rel * 1e3:.2f} ‰, "
+            f"change {100 * (again.presag_rel / result.presag_rel - 1):+.1f} %)"
+        )
+    if comparison is not None:
+        print("\nComparison with Schick, Liu & Stichel (2025), doi:10.1108/RS-05-2025-0016:")
+        print(table(
+            ["quantity", "unit", "ours", "paper", "difference [%]"],
+            [(r.item, r.unit, r.ours, r.paper, 100 * r.relative_difference) for r in comparison.rows],
+            ["{}", "{}", "{:.3f}", "{:.3f}", "{:+.1f}"],
+        ))
+    for path in (args.plot, args.plot_single_curve):
+        if path:
+            print(f"\nPlot saved to {path}")
+    return 0
+
+
+def layout_table(result: Recommendation) -> str:
+    """One row per layout: spans analysed, force levels, S_rel range, S range on the nominal span, uplift."""
+    span = result.nominal_span_length
+    rows = [
+        (
+            lay.layout_kind,
+            lay.catenary_name,
+            len(lay.section.spans),
+            ",".join(f"{f:g}" for f in lay.section.force_levels),
+            f"{lay.presag_rel_range[0] * 1e3:.2f}–{lay.presag_rel_range[1] * 1e3:.2f}",
+            f"{lay.presag_rel_range[0] * span * 1e3:.0f}–{lay.presag_rel_range[1] * span * 1e3:.0f}",
+            f"{lay.steady_arm_uplift.uplift * 1e3:.1f}" + ("" if lay.steady_arm_uplift.within_limit else " (over)"),
+        )
+        for lay in result.layouts
+    ]
+    return table(
+        ["layout", "system", "spans", "levels [N]", "S_rel [‰]", f"S on {span:g} m [mm]", "static StA uplift [mm]"],
+        rows,
+    )
+
+
+def print_recommendation(result: Recommendation, per_span: bool = False) -> None:
+    """The readable report of a recommendation."""
+    band = result.band
+    low, high = result.mean_force_band
+    method = "Δe = e_max − e_min" if result.method == "delta-e" else "e_mid − e_mast"
+    print(f"Quasi-static pre-sag, S = F_m·({method})")
+    print(
+        f"Operating band: F_stat {band.static_force_low:g}–{band.static_force_high:g} N, "
+        f"{band.speed_low / KMH:g}–{band.speed_high / KMH:g} km/h, α_ae = {band.aero_coefficient * KMH**2:g} N/(km/h)² "
+        f"-> F_m {low:.1f}–{high:.1f} N\n"
+    )
+    print(layout_table(result))
+    print(
+        f"\nRecommended S_rel = {result.presag_rel * 1e3:.2f} ‰ -> S = {result.presag * 1e3:.0f} mm on a "
+        f"{result.nominal_span_length:g} m span (mean of the layouts' range ends; range "
+        f"{result.presag_rel_range[0] * 1e3:.2f}–{result.presag_rel_range[1] * 1e3:.2f} ‰)"
+    )
+    seen = set()
+    for lay in result.layouts:
+        speed = lay.speed
+        if speed.wave_speed in seen:
+            continue
+        seen.add(speed.wave_speed)
+        validity = "valid" if speed.quasi_static_valid else "NOT valid"
+        print(
+            f"Speed: c_CW = {speed.wave_speed:.1f} m/s ({speed.wave_speed / KMH:.0f} km/h), β_max = {speed.beta_max:.2f} "
+            f"at {speed.speed_high / KMH:g} km/h, Doppler factor {speed.doppler_factor_min:.2f}; quasi-static rule "
+            f"{validity} (β ≤ {speed.beta_limit:g}, up to {speed.limit_speed / KMH:.0f} km/h)"
+        )
+    print(
+        "Steady-arm uplift: static estimate F_m·e_mast at the top of the band, limit "
+        f"{result.layouts[0].steady_arm_uplift.limit * 1e3:g} mm (the dynamic uplift is larger)"
+    )
+    if not per_span:
+        return
+    for lay in result.layouts:
+        if lay.layout_kind != "mixed":
+            continue
+        lo, hi = lay.at_band_low, lay.at_band_high
+        print(f"\nPer span, {lay.catenary_name} (S_rel at F_m {low:.0f} and {high:.0f} N; built S = S_rel,rec·l):")
+        print(table(
+            ["span", "l [m]", f"S_rel@{low:.0f} [‰]", f"S_rel@{high:.0f} [‰]", "built S [mm]"],
+            [
+                (s + 1, length, a * 1e3, b * 1e3, result.presag_rel * length * 1e3)
+                for s, length, a, b in zip(lo.spans, lo.span_lengths, lo.presag_rel, hi.presag_rel)
+            ],
+            ["{}", "{:.1f}", "{:.2f}", "{:.2f}", "{:.0f}"],
+        ))
