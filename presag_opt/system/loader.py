@@ -63,7 +63,7 @@ def resolve_model_path(name_or_path: str | Path, kind: str = "catenaries") -> Pa
     path = Path(name_or_path)
     if path.is_file():
         return path
-    candidate = models_root().joinpath(kind, f"{name_or_path}.toml")
+    candidate = models_root().joinpath(kind).joinpath(f"{name_or_path}.toml")
     if candidate.is_file():
         return Path(str(candidate))
     raise ModelError(
