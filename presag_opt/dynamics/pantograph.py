@@ -26,7 +26,7 @@ import numpy as np
 
 from presag_opt.errors import ModelError
 from presag_opt.system.catenary import Provenance
-from presag_opt.system.loader import parse_section, read_toml, resolve_model_path
+from presag_opt.system.loader import load_model_file, parse_section
 from presag_opt.system.quantity import quantity, validate_fields
 
 STEPS_PER_CONTACT_PERIOD = 10
@@ -297,12 +297,7 @@ def load_pantograph(name_or_path: str | Path) -> Pantograph:
     ModelError
         For any malformed or out-of-range content; the message starts with the file name.
     """
-    path = resolve_model_path(name_or_path, "pantographs")
-    data = read_toml(path)
-    try:
-        return pantograph_from_dict(data)
-    except ModelError as exc:
-        raise ModelError(f"{path.name}: {exc}") from None
+    return load_model_file(name_or_path, "pantographs", pantograph_from_dict)
 
 
 def pantograph_from_dict(data: Mapping[str, Any]) -> Pantograph:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from importlib import resources
 from pathlib import Path
 from typing import Any, TypeVar
@@ -190,6 +190,31 @@ CATENARY_SECTIONS = (
 )
 
 
+def load_model_file(name_or_path: str | Path, kind: str, build: Callable[[Mapping[str, Any]], T]) -> T:
+    """Read a model file of a kind (``catenaries``, ``pantographs``, ``cases``) and build its object.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        File path, or the name of a built-in model of that kind.
+    kind : str
+        Sub-folder of the built-in models.
+    build : callable
+        Turns the parsed TOML content into the validated object.
+
+    Raises
+    ------
+    ModelError
+        For any malformed or out-of-range content; the message starts with the file name.
+    """
+    path = resolve_model_path(name_or_path, kind)
+    data = read_toml(path)
+    try:
+        return build(data)
+    except ModelError as exc:
+        raise ModelError(f"{path.name}: {exc}") from None
+
+
 def load_catenary(name_or_path: str | Path) -> Catenary:
     """Load a catenary model file (a path, or the name of a built-in model such as ``st_9.8_ideal``).
 
@@ -198,12 +223,7 @@ def load_catenary(name_or_path: str | Path) -> Catenary:
     ModelError
         For any malformed or out-of-range content; the message starts with the file name.
     """
-    path = resolve_model_path(name_or_path, "catenaries")
-    data = read_toml(path)
-    try:
-        return catenary_from_dict(data)
-    except ModelError as exc:
-        raise ModelError(f"{path.name}: {exc}") from None
+    return load_model_file(name_or_path, "catenaries", catenary_from_dict)
 
 
 def catenary_from_dict(data: Mapping[str, Any]) -> Catenary:
