@@ -27,7 +27,13 @@ from presag_opt.static.discretisation import (
     discretise_lone_wire,
 )
 from presag_opt.static.linalg import Factor
-from presag_opt.static.symbolic import PhysicalParameters, PotentialFunctions, build_potential, solve_form_finding
+from presag_opt.static.symbolic import (
+    PhysicalParameters,
+    PotentialFunctions,
+    build_potential,
+    solve_form_finding,
+    target_height_sensitivity,
+)
 from presag_opt.system.catenary import Catenary, Wire
 
 
@@ -358,9 +364,7 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
         spring_reference=x_design[disc.spring_dofs],
         nodal_force=disc.gravity_force() + disc.termination_force,
     )
-    drop_cw = ax.node_a[disc.dropper_elements]
-    mw_springs = disc.spring_dofs[np.isin(disc.spring_dofs // 3, disc.mast_mw_node)]
-    target_dofs = np.concatenate([3 * drop_cw + 2, 3 * disc.mast_cw_node + 2, mw_springs]).astype(int)
+    target_dofs = _target_dofs(disc)
     targets = x_design[target_dofs]
     start = x_design
     iterations = 0
@@ -379,6 +383,36 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), iterations)
     _check_form_found(state, target_dofs, targets)
     return state
+
+
+def _target_dofs(disc: Discretisation) -> np.ndarray:
+    """Heights held by form-finding: contact wire at every dropper (first, in dropper order) and at
+    every support, messenger wire at spring supports."""
+    drop_cw = disc.axial.node_a[disc.dropper_elements]
+    mw_springs = disc.spring_dofs[np.isin(disc.spring_dofs // 3, disc.mast_mw_node)]
+    return np.concatenate([3 * drop_cw + 2, 3 * disc.mast_cw_node + 2, mw_springs]).astype(int)
+
+
+def dropper_height_sensitivity(state: EquilibriumState) -> np.ndarray:
+    """How the node heights of a form-found state move with the dropper target heights.
+
+    The CasADi Jacobian of the form-finding equations at the solution (implicit-function theorem,
+    :func:`presag_opt.static.symbolic.target_height_sensitivity`). Column j is the change of every
+    contact-wire node height per metre the target at dropper j is raised: 1 at that dropper, the
+    span between it and its neighbours following (with the small coupling that bending adds).
+
+    Returns
+    -------
+    ndarray, shape (n_nodes, n_droppers)
+        ∂z/∂z_target of every node for the droppers in along-track order. [m/m]
+    """
+    disc = state.discretisation
+    if "dropper_sensitivity" not in state._cache:
+        full = target_height_sensitivity(
+            disc, state.params, _horizontal_wire_tension(disc), _target_dofs(disc), state.positions
+        )
+        state._cache["dropper_sensitivity"] = full[:, : len(disc.dropper_elements)]
+    return state._cache["dropper_sensitivity"]
 
 
 def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
@@ -473,6 +507,7 @@ __all__ = [
     "DropperScheduleRow",
     "EquilibriumState",
     "StaticModel",
+    "dropper_height_sensitivity",
     "form_find",
     "lone_wire_state",
     "newton_equilibrium",

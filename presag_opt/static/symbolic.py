@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
@@ -215,6 +216,115 @@ class FormFindingSolution:
     iterations: int
 
 
+@dataclass(frozen=True)
+class _FormFindingSystem:
+    """The symbolic form-finding equations g(v; p) = 0 and what is needed to evaluate them."""
+
+    unknowns: ca.SX  # v
+    targets: ca.SX  # p: target heights of target_dofs [m]
+    equations: ca.SX  # g
+    coordinates: ca.SX  # x(v, p)
+    start: np.ndarray  # v at x_design
+    z_unknown: np.ndarray  # nodes whose height is unknown (in the order of v)
+    n_side: int
+    n_arm: int
+    n_drop: int
+
+
+def _form_finding_system(
+    disc: Discretisation,
+    params: PhysicalParameters,
+    wire_tension: np.ndarray,
+    target_dofs: np.ndarray,
+    x_design: np.ndarray,
+) -> _FormFindingSystem:
+    base = x_design.reshape(-1, 3)
+    fixed = disc.fixed_dofs.reshape(-1, 3)
+    z_free = np.flatnonzero(~fixed[:, 2])
+    z_unknown = z_free[~np.isin(3 * z_free + 2, target_dofs)]
+    drops = disc.dropper_elements
+    reg_nodes = disc.axial.node_a[disc.arm_elements]
+    n_arm = len(reg_nodes)
+    # Wire nodes that may move across their wire (in plan, perpendicular to it); their position
+    # along the wire stays where the design puts it.
+    side_nodes, across = [], []
+    for wire in (disc.cw_nodes, disc.mw_nodes):
+        if not len(wire):
+            continue
+        movable = ~fixed[wire, 1] & ~np.isin(wire, reg_nodes)
+        k = np.flatnonzero(movable)
+        tangent = base[wire[np.minimum(k + 1, len(wire) - 1)]] - base[wire[np.maximum(k - 1, 0)]]
+        side_nodes.append(wire[k])
+        across.append(np.column_stack([-tangent[:, 1], tangent[:, 0], np.zeros(len(k))])
+                      / np.linalg.norm(tangent[:, :2], axis=1)[:, None])
+    side_nodes = np.concatenate(side_nodes)
+    across_dir = np.concatenate(across)
+
+    v_z = ca.SX.sym("height", len(z_unknown))
+    v_side = ca.SX.sym("sideways", len(side_nodes))
+    v_arm = ca.SX.sym("arm_setting", 2 * n_arm)
+    v_drop = ca.SX.sym("dropper_length", len(drops))
+    v_ref = ca.SX.sym("spring_reference", len(disc.spring_dofs))
+    p = ca.SX.sym("target_height", len(target_dofs))
+
+    # Coordinates as functions of the unknowns and the targets; a pivot sits at its clamp's design
+    # point plus a·normal + b·e_z.
+    xs = ca.SX.sym("x", disc.n_dofs)
+    x = ca.SX(x_design.astype(float))
+    x[target_dofs.tolist()] = p
+    x[(3 * z_unknown + 2).tolist()] = v_z
+    for c in range(2):
+        x[(3 * side_nodes + c).tolist()] = ca.DM(base[side_nodes, c]) + v_side * ca.DM(across_dir[:, c])
+    for j, (pivot, mast) in enumerate(zip(disc.arm_pivot_nodes, disc.arm_masts)):
+        normal = disc.mast_normal[mast]
+        for c in range(3):
+            x[3 * pivot + c] = base[reg_nodes[j], c] + v_arm[2 * j] * normal[c] + (v_arm[2 * j + 1] if c == 2 else 0)
+
+    is_wire = wire_tension > 0
+    others = np.flatnonzero(~is_wire)
+    k = ca.DM(params.axial_stiffness[others])
+    L0 = _with(params.unstretched_length, drops, v_drop)[others.tolist()]
+    energy = _axial_energy(disc, xs, others, k, L0, ca.DM.zeros(len(others)))
+    wires = np.flatnonzero(is_wire)
+    ax = disc.axial
+    horizontal = np.linalg.norm(base[ax.node_b[wires], :2] - base[ax.node_a[wires], :2], axis=1)
+    X = ca.reshape(xs, 3, disc.n_nodes).T
+    d = X[ax.node_b[wires].tolist(), :] - X[ax.node_a[wires].tolist(), :]
+    tension = ca.DM(wire_tension[wires])
+    # H·l_h gives the constant horizontal pull (and so the lateral kink force at registrations);
+    # H/(2 l_h)·Δz² the vertical string stiffness.
+    energy += ca.sum1(tension * ca.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2) + tension / ca.DM(2.0 * horizontal) * d[:, 2] ** 2)
+    energy += _bending_energy(disc, xs, ca.DM(params.bending_stiffness))
+    energy += _spring_energy(disc, xs, ca.DM(params.spring_stiffness), v_ref)
+    energy -= ca.dot(ca.DM(params.nodal_force), xs)
+    gradient = ca.Function("gradient", [xs, v_drop, v_ref], [ca.gradient(energy, xs)])(x, v_drop, v_ref)
+
+    vertical = gradient[(3 * z_free + 2).tolist()]
+    sideways_balance = sum(gradient[(3 * side_nodes + c).tolist()] * ca.DM(across_dir[:, c]) for c in range(2))
+    balance_across = [
+        ca.dot(gradient[3 * node : 3 * node + 3], ca.DM(disc.mast_normal[mast]))
+        for node, mast in zip(reg_nodes, disc.arm_masts)
+    ]
+    arm_start = []
+    for j, mast in enumerate(disc.arm_masts):
+        rel = base[disc.arm_pivot_nodes[j]] - base[reg_nodes[j]]
+        arm_start += [float(rel @ disc.mast_normal[mast]), float(rel[2])]
+    return _FormFindingSystem(
+        unknowns=ca.vertcat(v_z, v_side, v_arm, v_drop, v_ref),
+        targets=p,
+        equations=ca.vertcat(vertical, sideways_balance, *balance_across),
+        coordinates=x,
+        start=np.concatenate([
+            x_design[3 * z_unknown + 2], np.zeros(len(side_nodes)), arm_start, params.unstretched_length[drops],
+            params.spring_reference,
+        ]),
+        z_unknown=z_unknown,
+        n_side=len(side_nodes),
+        n_arm=n_arm,
+        n_drop=len(drops),
+    )
+
+
 def solve_form_finding(
     disc: Discretisation,
     params: PhysicalParameters,
@@ -252,87 +362,11 @@ def solve_form_finding(
     ConvergenceError
         If IPOPT does not report success.
     """
-    base = x_design.reshape(-1, 3)
-    fixed = disc.fixed_dofs.reshape(-1, 3)
-    z_free = np.flatnonzero(~fixed[:, 2])
-    z_unknown = z_free[~np.isin(3 * z_free + 2, target_dofs)]
-    drops = disc.dropper_elements
-    reg_nodes = disc.axial.node_a[disc.arm_elements]
-    n_arm = len(reg_nodes)
-    # Wire nodes that may move across their wire (in plan, perpendicular to it); their position
-    # along the wire stays where the design puts it.
-    side_nodes, across = [], []
-    for wire in (disc.cw_nodes, disc.mw_nodes):
-        if not len(wire):
-            continue
-        movable = ~fixed[wire, 1] & ~np.isin(wire, reg_nodes)
-        k = np.flatnonzero(movable)
-        tangent = base[wire[np.minimum(k + 1, len(wire) - 1)]] - base[wire[np.maximum(k - 1, 0)]]
-        side_nodes.append(wire[k])
-        across.append(np.column_stack([-tangent[:, 1], tangent[:, 0], np.zeros(len(k))])
-                      / np.linalg.norm(tangent[:, :2], axis=1)[:, None])
-    side_nodes = np.concatenate(side_nodes)
-    across_dir = np.concatenate(across)
-
-    v_z = ca.SX.sym("height", len(z_unknown))
-    v_side = ca.SX.sym("sideways", len(side_nodes))
-    v_arm = ca.SX.sym("arm_setting", 2 * n_arm)
-    v_drop = ca.SX.sym("dropper_length", len(drops))
-    v_ref = ca.SX.sym("spring_reference", len(disc.spring_dofs))
-
-    # Coordinates as functions of the unknowns; a pivot sits at its clamp's design point
-    # plus a·normal + b·e_z.
-    xs = ca.SX.sym("x", disc.n_dofs)
-    x = ca.SX(x_design.astype(float))
-    x[(3 * z_unknown + 2).tolist()] = v_z
-    for c in range(2):
-        x[(3 * side_nodes + c).tolist()] = ca.DM(base[side_nodes, c]) + v_side * ca.DM(across_dir[:, c])
-    for j, (pivot, mast) in enumerate(zip(disc.arm_pivot_nodes, disc.arm_masts)):
-        normal = disc.mast_normal[mast]
-        for c in range(3):
-            x[3 * pivot + c] = base[reg_nodes[j], c] + v_arm[2 * j] * normal[c] + (v_arm[2 * j + 1] if c == 2 else 0)
-
-    is_wire = wire_tension > 0
-    others = np.flatnonzero(~is_wire)
-    k = ca.DM(params.axial_stiffness[others])
-    L0 = _with(params.unstretched_length, drops, v_drop)[others.tolist()]
-    energy = _axial_energy(disc, xs, others, k, L0, ca.DM.zeros(len(others)))
-    wires = np.flatnonzero(is_wire)
-    ax = disc.axial
-    horizontal = np.linalg.norm(base[ax.node_b[wires], :2] - base[ax.node_a[wires], :2], axis=1)
-    X = ca.reshape(xs, 3, disc.n_nodes).T
-    d = X[ax.node_b[wires].tolist(), :] - X[ax.node_a[wires].tolist(), :]
-    tension = ca.DM(wire_tension[wires])
-    # H·l_h gives the constant horizontal pull (and so the lateral kink force at registrations);
-    # H/(2 l_h)·Δz² the vertical string stiffness.
-    energy += ca.sum1(tension * ca.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2) + tension / ca.DM(2.0 * horizontal) * d[:, 2] ** 2)
-    energy += _bending_energy(disc, xs, ca.DM(params.bending_stiffness))
-    energy += _spring_energy(disc, xs, ca.DM(params.spring_stiffness), v_ref)
-    energy -= ca.dot(ca.DM(params.nodal_force), xs)
-    gradient = ca.Function("gradient", [xs, v_drop, v_ref], [ca.gradient(energy, xs)])(x, v_drop, v_ref)
-
-    vertical = gradient[(3 * z_free + 2).tolist()]
-    sideways_balance = sum(gradient[(3 * side_nodes + c).tolist()] * ca.DM(across_dir[:, c]) for c in range(2))
-    across = [
-        ca.dot(gradient[3 * node : 3 * node + 3], ca.DM(disc.mast_normal[mast]))
-        for node, mast in zip(reg_nodes, disc.arm_masts)
-    ]
-    g = ca.vertcat(vertical, sideways_balance, *across)
-    v = ca.vertcat(v_z, v_side, v_arm, v_drop, v_ref)
-
-    arm_start = []
-    for j, mast in enumerate(disc.arm_masts):
-        rel = base[disc.arm_pivot_nodes[j]] - base[reg_nodes[j]]
-        arm_start += [float(rel @ disc.mast_normal[mast]), float(rel[2])]
-    v0 = np.concatenate([
-        x_design[3 * z_unknown + 2], np.zeros(len(side_nodes)), arm_start, params.unstretched_length[drops],
-        params.spring_reference,
-    ])
-
+    system = _form_finding_system(disc, params, wire_tension, target_dofs, x_design)
     solver = ca.nlpsol(
         "form_finding",
         "ipopt",
-        {"x": v, "f": ca.SX(0), "g": g},
+        {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations},
         {
             "print_time": False,
             "ipopt": {
@@ -346,7 +380,8 @@ def solve_form_finding(
             },
         },
     )
-    result = solver(x0=v0, lbg=0, ubg=0)
+    targets = x_design[target_dofs]
+    result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
     stats = solver.stats()
     if not stats.get("success", False):
         raise ConvergenceError(
@@ -355,14 +390,54 @@ def solve_form_finding(
             stats,
         )
     sol = np.asarray(result["x"]).ravel()
-    positions = np.asarray(ca.Function("x_of_v", [v], [x])(sol)).ravel()
-    start = len(z_unknown) + len(side_nodes) + 2 * n_arm
+    positions = np.asarray(ca.Function("x_of_v", [system.unknowns, system.targets], [system.coordinates])(sol, targets)).ravel()
+    start = len(system.z_unknown) + system.n_side + 2 * system.n_arm
     return FormFindingSolution(
         positions=positions.reshape(-1, 3),
-        dropper_unstretched_length=sol[start : start + len(drops)],
-        spring_reference=sol[start + len(drops) :],
+        dropper_unstretched_length=sol[start : start + system.n_drop],
+        spring_reference=sol[start + system.n_drop :],
         iterations=int(stats.get("iter_count", -1)),
     )
+
+
+def target_height_sensitivity(
+    disc: Discretisation,
+    params: PhysicalParameters,
+    wire_tension: np.ndarray,
+    target_dofs: np.ndarray,
+    positions: np.ndarray,
+) -> np.ndarray:
+    """∂z/∂p: how every node height of a form-found state moves with the target heights.
+
+    By the implicit-function theorem on the form-finding equations g(v; p) = 0 at the solution:
+    dv/dp = −(∂g/∂v)⁻¹ ∂g/∂p (CasADi Jacobians, one sparse LU). Target heights move one for one.
+
+    Parameters
+    ----------
+    disc, params, wire_tension, target_dofs
+        As for :func:`solve_form_finding`; ``params`` holds the solved dropper lengths and spring
+        references.
+    positions : ndarray, shape (n_nodes, 3)
+        The form-found coordinates. [m]
+
+    Returns
+    -------
+    ndarray, shape (n_nodes, len(target_dofs))
+        Height change of every node per unit change of each target height. [m/m]
+    """
+    x = positions.ravel()
+    system = _form_finding_system(disc, params, wire_tension, target_dofs, x)
+    jacobians = ca.Function(
+        "jacobians",
+        [system.unknowns, system.targets],
+        [ca.jacobian(system.equations, system.unknowns), ca.jacobian(system.equations, system.targets)],
+    )
+    j_v, j_p = jacobians(system.start, x[target_dofs])
+    dv_dp = -spla.splu(j_v.sparse().tocsc()).solve(np.asarray(j_p.full()))
+    sensitivity = np.zeros((disc.n_nodes, len(target_dofs)))
+    sensitivity[target_dofs // 3, np.arange(len(target_dofs))] = 1.0
+    sensitivity[system.z_unknown] = dv_dp[: len(system.z_unknown)]
+    return sensitivity
 
 
 def _with(values: np.ndarray, index: np.ndarray, replacement):

@@ -1,0 +1,135 @@
+"""Robust pre-sag: optimality against brute force, DPP re-solves, tolerance bands, buildability."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presag_opt.errors import ModelError
+from presag_opt.presag import CASE_STUDY_BAND, force_levels_for_band, section_elasticity
+from presag_opt.robust import (
+    Buildability,
+    ForceScenarios,
+    Risk,
+    build_path_model,
+    evaluate_design,
+    robust_presag,
+    tolerance_band,
+)
+from presag_opt.static.equilibrium import dropper_height_sensitivity, form_find
+
+
+@pytest.fixture(scope="module")
+def band():
+    return CASE_STUDY_BAND.mean_force_band()
+
+
+@pytest.fixture(scope="module")
+def path(st98, band):
+    section = section_elasticity(st98, force_levels=force_levels_for_band(*band), elasticity_method="active-set")
+    return build_path_model(st98, section)
+
+
+@pytest.fixture(scope="module")
+def scenarios(band):
+    return ForceScenarios.band(*band)
+
+
+def test_form_found_geometry_is_affine_in_the_dropper_targets(st98):
+    # The Jacobian predicts the 70 mm geometry from the 30 mm one; the form-finding equations are
+    # nearly linear in the heights, so 0.01 mm over a 40 mm change is a tight but fair bound.
+    cat = st98.catenary
+    disc = st98.discretisation
+    lengths = np.asarray(cat.layout.span_lengths)[disc.dropper_span]
+    t = disc.dropper_position / lengths
+    new_rel = 70e-3 / 60.0
+    other = form_find(cat.with_presag(new_rel))
+    change = -(new_rel - cat.presag_rel) * lengths * 4 * t * (1 - t)
+    predicted = st98.positions[:, 2] + dropper_height_sensitivity(st98) @ change
+    assert np.abs(predicted[disc.cw_nodes] - other.positions[disc.cw_nodes, 2]).max() < 1e-5
+
+
+def test_minimax_parabola_matches_a_brute_force_scan(path, scenarios):
+    design = robust_presag(path, scenarios)
+    assert design.solver_status == "optimal"
+    grid = np.linspace(0.0, 2.5e-3, 2501)  # S_rel step 0.001 ‰ = 0.06 mm on 60 m
+    worst = np.array([path.waviness(path.parabola_depths(s), scenarios.forces).max() for s in grid])
+    assert design.worst_case_waviness == pytest.approx(worst.min(), rel=0.005)  # issue: 0.5 %
+    assert design.worst_case_waviness <= worst.min() + 1e-9  # the LP optimum is never beaten by the scan
+    assert abs(design.presag_rel - grid[np.argmin(worst)]) < 2e-5
+
+
+def test_lp_optimum_equals_its_exact_reevaluation(path, scenarios):
+    # The reported waviness is re-evaluated from the design, independent of the LP's variables.
+    problem_design = robust_presag(path, scenarios)
+    check = evaluate_design(path, problem_design.depths, scenarios, shape="parabola", risk=Risk())
+    assert check.objective == pytest.approx(problem_design.objective, rel=1e-9)
+
+
+def test_the_problem_is_dpp_and_reused(path, band):
+    first = robust_presag(path, ForceScenarios.band(*band))
+    cached = dict(path._problems)
+    narrow = robust_presag(path, ForceScenarios.band(band[0] + 20.0, band[1] - 20.0))
+    assert dict(path._problems).keys() == cached.keys()  # same problem object re-solved
+    problem = next(v[0] for k, v in path._problems.items() if k[0] == "parabola")
+    assert problem.is_dpp()
+    assert narrow.worst_case_waviness <= first.worst_case_waviness  # a narrower band is easier
+
+
+def test_robust_beats_the_nominal_delta_e_design_over_the_band(path, scenarios, band):
+    centre = 0.5 * (band[0] + band[1])
+    nominal_rel = path.section.presag(centre, "delta-e").presag_rel_mean
+    nominal = evaluate_design(path, path.parabola_depths(nominal_rel), scenarios, shape="parabola", risk=Risk())
+    robust = robust_presag(path, scenarios)
+    assert robust.worst_case_waviness <= nominal.worst_case_waviness  # by construction
+    assert robust.worst_case_waviness < 0.9 * nominal.worst_case_waviness  # and clearly (measured 22 %)
+
+
+def test_cvar_lies_between_mean_and_minimax(path):
+    scen = ForceScenarios.from_operating_band(CASE_STUDY_BAND)
+    objective = {r: robust_presag(path, scen, risk=Risk.parse(r)).objective for r in ("mean", "cvar:0.9", "minimax")}
+    assert objective["mean"] <= objective["cvar:0.9"] + 1e-9 <= objective["minimax"] + 2e-9
+
+
+def test_tolerance_band_contains_the_optimum_and_its_ends_are_on_the_bound(path, scenarios):
+    tol = tolerance_band(path, scenarios, within=0.10)
+    assert tol.low < tol.best < tol.high
+    for end in (tol.low, tol.high):
+        worst = path.waviness(path.parabola_depths(end), scenarios.forces).max()
+        assert worst == pytest.approx(1.10 * tol.best_objective, rel=1e-4)
+    outside = path.waviness(path.parabola_depths(tol.high + 2e-5), scenarios.forces).max()
+    assert outside > 1.10 * tol.best_objective
+
+
+def test_per_dropper_profile_is_buildable_and_at_least_as_good_as_the_parabola(path, scenarios):
+    build = Buildability()
+    parabola = robust_presag(path, scenarios)
+    profile = robust_presag(path, scenarios, shape="per-dropper", buildability=build)
+    assert profile.continuous_objective <= parabola.objective + 1e-9  # the parabola is a feasible profile
+    steps = profile.depths / build.step
+    assert np.allclose(steps, np.round(steps), atol=1e-9)  # on the 5 mm step
+    assert np.allclose(profile.depths, profile.depths[::-1])  # symmetric
+    assert profile.rounding == "exhaustive"
+    assert profile.objective >= profile.continuous_objective - 1e-12
+
+
+def test_infeasible_buildability_is_a_clear_error(path, scenarios):
+    with pytest.raises(ModelError, match="no feasible profile|meets the limits"):
+        robust_presag(path, scenarios, shape="per-dropper",
+                      buildability=Buildability(min_dropper_length=1.5))
+
+
+@pytest.mark.parametrize("call,words", [
+    (lambda: ForceScenarios.band(148.0, 70.0), "empty or inverted"),
+    (lambda: ForceScenarios.band(70.0, 70.0), "empty or inverted"),
+    (lambda: Risk.parse("var:0.9"), "is not one of"),
+    (lambda: Risk.parse("cvar:1.5"), "risk level"),
+])
+def test_bad_inputs(call, words):
+    with pytest.raises(ModelError, match=words):
+        call()
+
+
+def test_forces_outside_the_computed_levels_are_refused(path):
+    with pytest.raises(ModelError, match="outside the computed"):
+        robust_presag(path, ForceScenarios.band(40.0, 140.0))
