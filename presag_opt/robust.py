@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sp
 
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.presag import OperatingBand, SectionElasticity, interpolate_elasticity, mean_contact_force
@@ -50,6 +51,9 @@ from presag_opt.static.equilibrium import EquilibriumState, dropper_height_sensi
 from presag_opt.system.quantity import quantity, validate_fields
 
 SHAPES = ("parabola", "per-dropper")
+
+SENSITIVITY_CUTOFF = 1e-9
+"""Geometry sensitivities smaller than this are round-off of the implicit-function solve. [m/m]"""
 
 
 # ----- force scenarios ----------------------------------------------------------------------------
@@ -241,6 +245,18 @@ class PathModel:
         return self.section.spans
 
     @property
+    def sparse_sensitivity(self) -> sp.csr_matrix:
+        """:attr:`sensitivity` without its round-off entries (below 1e-9 m/m).
+
+        A node feels only the droppers of its own span (the masts are held at their height), but the
+        implicit-function solve leaves round-off everywhere; dropping it keeps the LP sparse.
+        """
+        if "sparse_sensitivity" not in self._problems:
+            dense = np.where(np.abs(self.sensitivity) < SENSITIVITY_CUTOFF, 0.0, self.sensitivity)
+            self._problems["sparse_sensitivity"] = sp.csr_matrix(dense)
+        return self._problems["sparse_sensitivity"]
+
+    @property
     def span_lengths(self) -> np.ndarray:
         """Length of each analysed span. [m]"""
         return self.section.span_lengths
@@ -261,14 +277,17 @@ class PathModel:
                 out[k, sel] = force * curve.at(self.node_position[sel])
         return out
 
-    def heights(self, depths: np.ndarray, forces: np.ndarray) -> np.ndarray:
-        """Path height h at every point for every force (K × points). [m]"""
-        z = self.base_height + self.sensitivity @ (np.asarray(depths) - self.reference_depth)
-        return z[None, :] + self.uplift(forces)
+    def heights(self, depths: np.ndarray, forces: np.ndarray, uplift: np.ndarray | None = None) -> np.ndarray:
+        """Path height h at every point for every force (K × points). [m]
 
-    def waviness(self, depths: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        ``uplift`` may pass :meth:`uplift` of the same forces, computed once for many designs.
+        """
+        z = self.base_height + self.sensitivity @ (np.asarray(depths) - self.reference_depth)
+        return z[None, :] + (self.uplift(forces) if uplift is None else uplift)
+
+    def waviness(self, depths: np.ndarray, forces: np.ndarray, uplift: np.ndarray | None = None) -> np.ndarray:
         """Peak-to-peak path height R of every analysed span for every force (K × spans). [m]"""
-        h = self.heights(depths, forces)
+        h = self.heights(depths, forces, uplift)
         return np.column_stack([np.ptp(h[:, self.node_span == s], axis=1) for s in self.spans])
 
 
@@ -451,13 +470,19 @@ def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: B
     depths = design_map @ variables + offset
     uplift = cp.Parameter((n_scenarios, len(path.node_span)), name="uplift")
     weights = cp.Parameter(n_scenarios, nonneg=True, name="weights")
-    z = path.base_height - path.sensitivity @ path.reference_depth + path.sensitivity @ depths
+    # The contact-wire heights are one variable shared by all scenarios, so the (sparse) geometry
+    # sensitivity enters the LP once and not once per scenario.
+    z = cp.Variable(len(path.node_span))
     heights = np.ones((n_scenarios, 1)) @ cp.reshape(z, (1, z.shape[0]), order="C") + uplift
     spans = path.spans
     incidence = np.column_stack([(path.node_span == s).astype(float) for s in spans])
     top = cp.Variable((n_scenarios, len(spans)))
     bottom = cp.Variable((n_scenarios, len(spans)))
-    constraints = [heights <= top @ incidence.T, heights >= bottom @ incidence.T]
+    constraints = [
+        z == path.base_height - path.sensitivity @ path.reference_depth + path.sparse_sensitivity @ depths,
+        heights <= top @ incidence.T,
+        heights >= bottom @ incidence.T,
+    ]
     loss = cp.Variable(n_scenarios)
     constraints.append(loss[:, None] @ np.ones((1, len(spans))) >= top - bottom)
     objective, extra = _risk_objective(loss, weights, risk)
@@ -589,58 +614,62 @@ def robust_presag(
                            continuous_objective=continuous.objective, rounding=how)
 
 
-def _buildable(path: PathModel, depths: np.ndarray, build: Buildability) -> bool:
+def _violation(path: PathModel, depths: np.ndarray, build: Buildability) -> float:
+    """Largest excess of a profile over the buildability limits (0 if it meets them all). [m or -]"""
     lengths = np.asarray(path.state.catenary.layout.span_lengths)[path.dropper_span]
-    tol = 1e-9
-    if np.any(depths < -tol) or np.any(depths > build.max_depth_rel * lengths + tol):
-        return False
-    if np.any(path.dropper_length + path.length_sensitivity @ (depths - path.reference_depth) < build.min_dropper_length - tol):
-        return False
+    excess = [
+        np.max(-depths, initial=0.0),
+        np.max(depths - build.max_depth_rel * lengths, initial=0.0),
+        np.max(build.min_dropper_length
+               - (path.dropper_length + path.length_sensitivity @ (depths - path.reference_depth)), initial=0.0),
+    ]
     for idx, pos in _span_kinks(path):
         length = path.state.catenary.layout.span_lengths[int(path.dropper_span[idx[0]])]
         full = np.concatenate([[0.0], depths[idx], [0.0]])
         slope = np.diff(full) / np.diff(np.concatenate([[0.0], pos, [length]]))
-        if np.any(np.abs(np.diff(slope)) > build.max_kink + tol):
-            return False
-    return True
+        excess.append(np.max(np.abs(np.diff(slope)) - build.max_kink, initial=0.0))
+    worst = max(excess)
+    return worst if worst > 1e-9 else 0.0
 
 
 def _round_to_step(path, values, design_map, scenarios, risk, build: Buildability) -> tuple[np.ndarray, str]:
+    """Put the design on the construction step: best (limit violation, objective) by enumeration
+    (at most 12 free depths) or by a greedy descent from the nearest rounding."""
     if build.step == 0.0:
         return design_map @ values, "none"
 
+    uplift = path.uplift(scenarios.forces)
+
     def score(v):
         d = design_map @ v
-        if not _buildable(path, d, build):
-            return math.inf
-        return _objective_value(path.waviness(d, scenarios.forces).max(axis=1), scenarios.weights, risk)
+        return (_violation(path, d, build),
+                _objective_value(path.waviness(d, scenarios.forces, uplift).max(axis=1), scenarios.weights, risk))
 
-    low = np.floor(values / build.step + 1e-9) * build.step
     if len(values) <= 12:
-        best, best_score = None, math.inf
-        for ups in itertools.product((0.0, build.step), repeat=len(values)):
-            candidate = low + np.asarray(ups)
-            s = score(candidate)
-            if s < best_score:
-                best, best_score = candidate, s
-        if best is None:
-            raise ModelError("robust pre-sag: no rounding of the profile to the construction step meets the limits")
-        return design_map @ best, "exhaustive"
-    current = np.round(values / build.step) * build.step
-    current_score = score(current)
-    improved = True
-    while improved:
-        improved = False
-        for i in range(len(current)):
-            for delta in (-build.step, build.step):
-                trial = current.copy()
-                trial[i] += delta
-                s = score(trial)
-                if s < current_score - 1e-12:
-                    current, current_score, improved = trial, s, True
-    if not math.isfinite(current_score):
-        raise ModelError("robust pre-sag: no rounding of the profile to the construction step meets the limits")
-    return design_map @ current, "greedy"
+        low = np.floor(values / build.step + 1e-9) * build.step
+        candidates = (low + np.asarray(ups) for ups in itertools.product((0.0, build.step), repeat=len(values)))
+        best = min(candidates, key=score)
+        how = "exhaustive"
+    else:
+        best = np.round(values / build.step) * build.step
+        best_score = score(best)
+        improved = True
+        while improved:
+            improved = False
+            for i in range(len(best)):
+                for delta in (-build.step, build.step):
+                    trial = best.copy()
+                    trial[i] += delta
+                    trial_score = score(trial)
+                    if trial_score < best_score and (trial_score[0] < best_score[0] or trial_score[1] < best_score[1] - 1e-12):
+                        best, best_score, improved = trial, trial_score, True
+        how = "greedy"
+    if score(best)[0] > 0.0:
+        raise ModelError(
+            f"robust pre-sag: no rounding of the profile to the {build.step * 1e3:g} mm construction step meets the "
+            "buildability limits (relax max_kink or the step)"
+        )
+    return design_map @ best, how
 
 
 def tolerance_band(
@@ -669,7 +698,8 @@ def tolerance_band(
         s = cp.Variable()
         uplift = cp.Parameter((len(scenarios.forces), len(path.node_span)))
         bound = cp.Parameter(nonneg=True)
-        z = path.base_height - path.sensitivity @ path.reference_depth + path.sensitivity @ (path.parabola_depths(1.0) * s)
+        shape = path.sensitivity @ path.parabola_depths(1.0)
+        z = path.base_height - path.sensitivity @ path.reference_depth + shape * s
         heights = np.ones((len(scenarios.forces), 1)) @ cp.reshape(z, (1, z.shape[0]), order="C") + uplift
         incidence = np.column_stack([(path.node_span == sp).astype(float) for sp in path.spans])
         top = cp.Variable((len(scenarios.forces), len(path.spans)))
