@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
 from presag_opt.static.discretisation import StaticSettings

@@ -12,7 +12,6 @@ from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 from presag_opt.system.catenary import SpanLayout
-from presag_opt.system.loader import load_catenary
 
 
 def test_jacobian_elasticity_equals_resolved_equilibrium_under_1N(st98):

@@ -1,0 +1,63 @@
+"""``presag robust`` and ``presag tolerance`` run as a user would (installed script, outside the tree)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPT = Path(sys.executable).parent / "presag"
+
+
+def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
+    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
+
+
+def test_robust_json_and_plot(tmp_path):
+    result = presag("robust", "--json", "--plot", "r.png", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    for key in ("presag_mm", "worst_case_waviness_mm", "nominal_presag_mm", "nominal_worst_case_waviness_mm", "tolerance_mm"):
+        assert key in data
+    low, high = data["tolerance_mm"]
+    assert low < data["presag_mm"] < high
+    assert data["worst_case_waviness_mm"] <= data["nominal_worst_case_waviness_mm"]
+    assert data["fm_band_N"] == [70.0, 148.0]
+    # the robust pre-sag lies inside the paper's recommended range for ideal spans, 0.68–1.35 ‰
+    assert 0.68 <= data["presag_rel_permille"] <= 1.35
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+
+
+def test_robust_per_dropper_cvar_table(tmp_path):
+    result = presag("robust", "--shape", "per-dropper", "--risk", "cvar:0.9", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "Dropper depths [mm]" in result.stdout and "cvar:0.90" in result.stdout
+
+
+def test_tolerance_json(tmp_path):
+    result = presag("tolerance", "--fm-band", "90:130", "--within", "5%", "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["tolerance_within"] == pytest.approx(0.05)
+    assert data["tolerance_mm"][0] < data["presag_mm"] < data["tolerance_mm"][1]
+
+
+@pytest.mark.parametrize("args,words", [
+    (["robust", "--fm-band", "148:70"], "empty or inverted"),
+    (["robust", "--fm-band", "70"], "LOW:HIGH"),
+    (["robust", "--risk", "var"], "is not one of"),
+    (["tolerance", "--within", "abc"], "--within"),
+    (["robust", "--shape", "per-dropper", "--step-mm", "2"], None),
+])
+def test_bad_arguments(tmp_path, args, words):
+    result = presag(*args, cwd=tmp_path)
+    if words is None:  # a valid call, as a control
+        assert result.returncode == 0, result.stderr
+        return
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert words in result.stderr.strip().splitlines()[-1], result.stderr
