@@ -287,10 +287,7 @@ class _ActiveSetModel:
 
     def uplift(self, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
         """Nodal-interpolated uplift [m] and slack-dropper count at each station under ``force``."""
-        local, vertical = _vertical_load_shapes(self.state, stations)
-        compliance = vertical.T @ self.state.factorised_stiffness().solve(vertical)
-        load_compliance = np.einsum("pi,ij,pj->p", local, compliance, local)  # P^T K^-1 P
-        load_influence = local @ (vertical.T @ self.influence)  # P^T W, (stations, m)
+        load_compliance, load_influence = self._load_terms(stations)
         uplift = np.empty(len(stations))
         slack_count = np.empty(len(stations), dtype=int)
         slack = np.zeros(len(self.preload), dtype=bool)
@@ -298,6 +295,20 @@ class _ActiveSetModel:
             uplift[i], slack = self._solve(force, load_compliance[i], load_influence[i], slack)
             slack_count[i] = int(slack.sum())
         return uplift, slack_count
+
+    def _load_terms(self, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """PᵀK⁻¹P and PᵀW for a unit load at each station; kept per set of stations, since every
+        force level of a span uses the same ones."""
+        cache = self.state._cache.setdefault("active_set_loads", {})
+        key = np.asarray(stations, dtype=float).tobytes()
+        if key not in cache:
+            local, vertical = _vertical_load_shapes(self.state, stations)
+            compliance = vertical.T @ self.state.factorised_stiffness().solve(vertical)
+            cache[key] = (
+                np.einsum("pi,ij,pj->p", local, compliance, local),
+                local @ (vertical.T @ self.influence),
+            )
+        return cache[key]
 
     def _solve(self, force: float, c_pp: float, v_p: np.ndarray, slack: np.ndarray) -> tuple[float, np.ndarray]:
         """Uplift at the load point and the slack set, starting the iteration from ``slack``."""

@@ -76,7 +76,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     span = recommendation.nominal_span_length
     right = ax.secondary_yaxis("right", functions=(lambda r: r * span, lambda s: s / span))
     right.set_ylabel(f"pre-sag S on a {span:g} m span [mm]")
-    ax.set_title(f"Quasi-static pre-sag ({recommendation.method} range)")
+    ax.set_title(f"Quasi-static pre-sag (range and recommendation from the {recommendation.method} variant)")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -118,6 +118,88 @@ def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Pat
     bottom.grid(True, alpha=0.3)
     bottom.legend(fontsize=7)
     fig.suptitle(f"One elasticity curve instead of interpolation ({studies[0].catenary_name})" if studies else "")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+from presag_opt.dynamics.simulate import SimulationResult  # noqa: E402
+
+
+def plot_contact_force(results: SimulationResult | list[SimulationResult], path: str | Path) -> Path:
+    """Contact force against position, raw and 20 Hz filtered, one panel per run.
+
+    The analysed section is shaded; each pantograph of a train gets its own colour.
+
+    Parameters
+    ----------
+    results : SimulationResult or list of SimulationResult
+        Runs to draw (e.g. one per speed).
+    path : str or Path
+        Output file; the suffix selects the format (png, pdf, svg).
+    """
+    runs = [results] if isinstance(results, SimulationResult) else list(results)
+    fig, axes = plt.subplots(len(runs), 1, figsize=(9, 3.2 * len(runs)), squeeze=False)
+    for ax, run in zip(axes[:, 0], runs):
+        ax.axvspan(*run.analysed_section, color="0.9", label="analysed section")
+        for i, panto in enumerate(run.pantographs):
+            colour = f"C{i}"
+            label = panto.name if len(run.pantographs) == 1 else f"{panto.name} (+{panto.offset:g} m)"
+            ax.plot(panto.position, panto.contact_force, color=colour, alpha=0.3, linewidth=0.6)
+            ax.plot(panto.position, panto.contact_force_filtered, color=colour, linewidth=1.2, label=f"{label}, filtered")
+        stats = run.statistics
+        ax.axhline(stats.mean_force, color="k", linewidth=0.8, linestyle="--")
+        ax.set_title(
+            f"{run.catenary_name}: {run.operation.speed * 3.6:g} km/h (β = {run.speed_ratio:.2f}), "
+            f"F_m = {stats.mean_force:.1f} N, σ = {stats.std_force:.1f} N",
+            fontsize=9,
+        )
+        ax.set_ylabel("contact force [N]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, loc="upper right")
+    axes[-1, 0].set_xlabel("position along the section [m]")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
+def plot_waviness(study, path: str | Path) -> Path:
+    """Worst-case and per-force waviness R against the parabolic pre-sag S over the band.
+
+    Parameters
+    ----------
+    study : presag_opt.robust.RobustStudy
+        The study to draw.
+    path : str or Path
+        Output file.
+    """
+    import numpy as np
+
+    model = study.path
+    l_ref = study.reference_span
+    rel = np.linspace(0.0, 2.0 * max(study.robust_parabola.presag_rel, study.nominal.presag_rel), 200)
+    forces = study.scenarios.forces
+    waviness = np.array([model.waviness(model.parabola_depths(s), forces).max(axis=1) for s in rel])  # (S, K)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    s_mm = rel * l_ref * 1e3
+    for k in range(0, len(forces), max(1, len(forces) // 6)):
+        ax.plot(s_mm, waviness[:, k] * 1e3, color="0.7", lw=0.8)
+    ax.plot([], [], color="0.7", lw=0.8, label="R at single forces of the band")
+    ax.plot(s_mm, waviness.max(axis=1) * 1e3, "k", lw=2, label="worst case over the band")
+    tol = study.tolerance
+    ax.axvspan(tol.low * l_ref * 1e3, tol.high * l_ref * 1e3, color="tab:green", alpha=0.2,
+               label=f"tolerance (within {tol.within * 100:g} %)")
+    ax.axvline(study.robust_parabola.presag_rel * l_ref * 1e3, color="tab:green", label="robust (minimax)")
+    ax.axvline(study.nominal.presag_rel * l_ref * 1e3, color="tab:red", ls="--", label="nominal Δe at band centre")
+    ax.set_xlabel(f"pre-sag S on a {l_ref:g} m span [mm]")
+    ax.set_ylabel("path waviness R [mm]")
+    ax.set_title(f"{study.catenary_name}: F_m {forces.min():g}–{forces.max():g} N")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=150)

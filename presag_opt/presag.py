@@ -12,7 +12,9 @@ Two ways to size the mid-span pre-sag S of a simple catenary (Schick, Liu & Stic
 
 On a section with unequal spans the relative pre-sag S_rel = S/l is computed per span and averaged
 over the section, and the pre-sag built is S_rel,mean · l in every span (Swedish practice: pre-sag
-proportional to span length; :class:`SectionPresag`). :func:`recommend` runs the paper's case study
+proportional to span length; :class:`SectionPresag`). By default the two end spans, whose outer
+support is the termination rather than a steady arm, are left out (:func:`default_spans`); an ideal
+section is represented by its central span. :func:`recommend` runs the paper's case study
 (ST 9,8/9,8, F_stat 70–140 N, v ≤ 90 km/h, α_ae = 0.00097 N/(km/h)², ideal and mixed spans) and
 returns the F_m band, the S_rel range per layout, their mean as the recommendation, and the speed
 context (wave speed, β = v/c_CW, Doppler factor, validity β ≤ 0.4). :func:`single_curve_error`
@@ -256,7 +258,9 @@ class EmpiricalPresag:
 # ----- operating band and mean contact force --------------------------------------------------------
 
 
-def mean_contact_force(static_force, speed, aero_coefficient):
+def mean_contact_force(
+    static_force: float | np.ndarray, speed: float | np.ndarray, aero_coefficient: float
+) -> float | np.ndarray:
     """Mean contact force F_m = F_stat + α_ae v².
 
     Parameters
@@ -864,7 +868,7 @@ class StaticSteadyArmUplift:
 
 def _force_grid(low: float, high: float, extra: Sequence[float] = ()) -> np.ndarray:
     """Forces from low to high at most 1 N apart, with the ends and ``extra`` points inside. [N]"""
-    n = max(2, int(math.ceil(high - low)) + 1)
+    n = max(2, math.ceil(high - low) + 1)
     inside = [f for f in extra if low < f < high]
     return np.unique(np.concatenate([np.linspace(low, high, n), inside]))
 
@@ -938,9 +942,9 @@ class LayoutRecommendation:
                 {
                     "span": span + 1,
                     "length_m": length,
-                    "presag_rel_permille": [lo * 1e3, hi * 1e3],
-                    "own_presag_mm": [slo * 1e3, shi * 1e3],
-                    "proportional_presag_mm": [plo * 1e3, phi * 1e3],
+                    "presag_rel_at_band_ends_permille": [lo * 1e3, hi * 1e3],
+                    "own_presag_at_band_ends_mm": [slo * 1e3, shi * 1e3],
+                    "proportional_presag_at_band_ends_mm": [plo * 1e3, phi * 1e3],
                     "recommended_presag_mm": presag_rel * length * 1e3,
                 }
                 for span, length, lo, hi, slo, shi, plo, phi in zip(
@@ -960,7 +964,10 @@ class LayoutRecommendation:
 
 
 def check_levels_cover(levels: Sequence[float], low: float, high: float) -> None:
-    """Raise ModelError unless the force levels [N] span the mean-force band [low, high] [N]."""
+    """Raise ModelError unless the force levels [N] are positive and span the mean-force band [low, high] [N]."""
+    bad = [f for f in levels if not 0.0 < f <= 2000.0]
+    if bad:
+        raise ModelError(f"force level = {bad[0]:g} N is outside the valid range (0, 2000] N")
     if not levels or not (min(levels) <= low and high <= max(levels)):
         suggested = force_levels_for_band(low, high)
         raise ModelError(
@@ -1053,7 +1060,7 @@ class Recommendation:
     presag_rel: float
     nominal_span_length: float
     warnings: tuple[str, ...] = ()
-    recomputed: "Recommendation | None" = None
+    recomputed: Recommendation | None = None
 
     @property
     def presag(self) -> float:
@@ -1384,6 +1391,11 @@ class ComparisonRow:
     paper: float
 
     @property
+    def difference(self) -> float:
+        """ours − paper, in ``unit`` (the meaningful measure for values that are themselves errors in %)."""
+        return self.ours - self.paper
+
+    @property
     def relative_difference(self) -> float:
         """(ours − paper) / paper. [-]"""
         return (self.ours - self.paper) / self.paper
@@ -1410,7 +1422,10 @@ class PaperComparison:
     def to_dict(self) -> list[dict]:
         """JSON-ready rows (relative difference as a fraction)."""
         return [
-            {"item": r.item, "unit": r.unit, "ours": r.ours, "paper": r.paper, "relative_difference": r.relative_difference}
+            {
+                "item": r.item, "unit": r.unit, "ours": r.ours, "paper": r.paper,
+                "difference": r.difference, "relative_difference": r.relative_difference,
+            }
             for r in self.rows
         ]
 

@@ -36,9 +36,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Empirical pre-sag: e_mid = l/(k (T_CW + T_MW)), e_mast = 0.5…0.3 e_mid, "
         "S = F_stat (e_mid − e_mast), S_rel = S/l.",
     )
-    p.add_argument("--tension", default="9.8/9.8", help="contact/messenger wire tension in kN, e.g. 9.8/9.8 (default)")
-    p.add_argument("--span", type=positive_float, default=CASE_STUDY_SPAN_LENGTH, help="span length in m (default 60)")
-    p.add_argument("--static-force", type=positive_float, default=140.0, help="static contact force in N (default 140)")
+    p.add_argument("--tension", metavar="CW/MW", default="9.8/9.8", help="contact/messenger wire tension in kN, e.g. 9.8/9.8 (default)")
+    p.add_argument("--span", metavar="M", type=positive_float, default=CASE_STUDY_SPAN_LENGTH, help="span length in m (default 60)")
+    p.add_argument("--static-force", metavar="N", type=positive_float, default=140.0, help="static contact force in N (default 140)")
     p.add_argument("--k", type=positive_float, default=EMPIRICAL_K, help=f"factor k of eq. 1 (default {EMPIRICAL_K:g})")
     add_json_flag(p)
     p.set_defaults(handler=empirical_command)
@@ -52,26 +52,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "up to 90 km/h, α_ae = 0.00097 N/(km/h)².",
     )
     p.add_argument(
-        "--models", default=",".join(CASE_STUDY_MODELS),
+        "--models", metavar="MODEL[,MODEL]", default=",".join(CASE_STUDY_MODELS),
         help=f"comma-separated model files or built-in names (default {','.join(CASE_STUDY_MODELS)})",
     )
     p.add_argument(
-        "--static-force", type=float_list, default=[band.static_force_low, band.static_force_high],
+        "--static-force", metavar="LOW,HIGH", type=float_list, default=[band.static_force_low, band.static_force_high],
         help="static contact force band LOW,HIGH in N, or one value (default 70,140)",
     )
-    p.add_argument("--min-speed", type=positive_float, default=band.speed_low / KMH, help="lowest speed in km/h (default 0)")
-    p.add_argument("--max-speed", type=positive_float, default=band.speed_high / KMH, help="highest speed in km/h (default 90)")
+    p.add_argument("--min-speed", metavar="KMH", type=positive_float, default=band.speed_low / KMH, help="lowest speed in km/h (default 0)")
+    p.add_argument("--max-speed", metavar="KMH", type=positive_float, default=band.speed_high / KMH, help="highest speed in km/h (default 90)")
     p.add_argument(
-        "--aero", type=positive_float, default=band.aero_coefficient * KMH**2,
+        "--aero", metavar="ALPHA", type=positive_float, default=band.aero_coefficient * KMH**2,
         help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
     )
-    p.add_argument("--method", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
-    p.add_argument("--force-levels", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
-    p.add_argument("--step", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
-    p.add_argument("--elasticity-method", default="active-set", help="nonlinear elasticity: active-set (default, fast) or newton")
-    p.add_argument("--element-length", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
+    p.add_argument("--method", metavar="{mid-mast,delta-e}", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
+    p.add_argument("--force-levels", metavar="F[,F...]", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
+    p.add_argument("--step", metavar="M", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
+    p.add_argument("--elasticity-method", metavar="{active-set,newton}", default="active-set", help="nonlinear elasticity: active-set (default, fast) or newton")
+    p.add_argument("--element-length", metavar="M", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
     p.add_argument(
-        "--span-length", type=positive_float, default=CASE_STUDY_SPAN_LENGTH,
+        "--span-length", metavar="M", type=positive_float, default=CASE_STUDY_SPAN_LENGTH,
         help="span length the recommended pre-sag is stated for, in m (default 60)",
     )
     p.add_argument("--recompute", action="store_true", help="also recompute the elasticity at the recommended pre-sag geometry")
@@ -123,6 +123,7 @@ def parse_tension(text: str) -> tuple[float, float]:
 
 
 def empirical_command(args: argparse.Namespace) -> int:
+    """``presag empirical``: the empirical rule as a table (with the Table 1 rounding) or JSON."""
     cw, mw = parse_tension(args.tension)
     rule = EmpiricalPresag(
         span_length=args.span, contact_wire_tension=cw, messenger_wire_tension=mw, static_force=args.static_force, k=args.k
@@ -166,6 +167,7 @@ def operating_band(args: argparse.Namespace) -> OperatingBand:
 
 
 def recommend_command(args: argparse.Namespace) -> int:
+    """``presag recommend``: the recommendation, optionally recomputed, compared and plotted."""
     if args.plot_single_curve and not args.compare_paper:
         raise ModelError("--plot-single-curve needs --compare-paper (the Fig. 5b study is part of the comparison)")
     models = [m.strip() for m in args.models.split(",") if m.strip()]
@@ -214,9 +216,9 @@ def recommend_command(args: argparse.Namespace) -> int:
     if comparison is not None:
         print("\nComparison with Schick, Liu & Stichel (2025), doi:10.1108/RS-05-2025-0016:")
         print(table(
-            ["quantity", "unit", "ours", "paper", "difference [%]"],
-            [(r.item, r.unit, r.ours, r.paper, 100 * r.relative_difference) for r in comparison.rows],
-            ["{}", "{}", "{:.3f}", "{:.3f}", "{:+.1f}"],
+            ["quantity", "unit", "ours", "paper", "ours − paper", "relative [%]"],
+            [(r.item, r.unit, r.ours, r.paper, r.difference, 100 * r.relative_difference) for r in comparison.rows],
+            ["{}", "{}", "{:.3f}", "{:.3f}", "{:+.3f}", "{:+.1f}"],
         ))
     for path in (args.plot, args.plot_single_curve):
         if path:
