@@ -6,8 +6,8 @@ returns the time histories and contact-force statistics as a :class:`SimulationR
 
 The run
     The analysed section is the ``analysed_spans`` central spans of the section (for 10 spans and
-    2 analysed spans: spans 5 and 6, counted from 1). The rear pantograph starts ``lead_in_spans``
-    spans before it, at a mast, the others ahead of it at their spacings; all start from static
+    2 analysed spans: spans 5 and 6, counted from 1). The leading pantograph starts ``lead_in_spans``
+    spans before it, at a mast, the others behind it at their spacings; all start from static
     contact: pressed against the wire at rest with the mean uplift force F_up = F_stat + α_ae v²
     (the static equilibrium of wire, droppers and pantograph under that force, droppers
     tension-only). Then the contact points move at the train speed. The run ends when the rear
@@ -56,12 +56,12 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics.integrator import IntegratorSettings, NonlinearForce, State, integrate
+from presag_opt.dynamics.integrator import NO_FORCE, IntegratorSettings, NonlinearForce, State, integrate
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics, lowpass_filter
 from presag_opt.dynamics.structure import StructuralModel, StructureSettings, structural_model
 from presag_opt.errors import ModelError
-from presag_opt.speed import doppler_factor, speed_ratio
+from presag_opt.speed import doppler_factor
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState, form_find
 from presag_opt.system.catenary import Catenary
@@ -87,10 +87,10 @@ class SimulationSettings:
     analysed_spans : int
         Number of central spans analysed. [-]
     lead_in_spans : int
-        Spans the rear pantograph runs before the analysed section. [-]
+        Spans the leading pantograph runs before the analysed section. [-]
     run_out : float
-        Time the rear pantograph runs past the analysed section (data for the zero-phase
-        filter: its impulse response has decayed below 1e-3 of its peak after 0.1 s). [s]
+        Time the rear pantograph runs past the analysed section: data for the zero-phase filter,
+        whose 20 Hz Butterworth impulse response falls below 1e-4 of its peak within 0.2 s. [s]
     cutoff_frequency : float
         Low-pass cut-off of the contact force. [Hz]
     droppers : {"analysed", "all"}
@@ -115,6 +115,7 @@ class SimulationSettings:
             value = getattr(self, name)
             if value != int(value):
                 raise ModelError(f"{name} = {value!r} is not a whole number")
+            object.__setattr__(self, name, int(value))
         if self.droppers not in DROPPER_RECORDS:
             raise ModelError(f"droppers = {self.droppers!r} is not one of {', '.join(map(repr, DROPPER_RECORDS))}")
 
@@ -313,27 +314,53 @@ class SimulationResult:
 
 @dataclass(frozen=True)
 class _Coupling:
-    """One pantograph on the wire: its DOFs, start station and head height at rest."""
+    """One pantograph on the wire: its DOFs, head height at rest and its contact point at every step.
+
+    The contact point's element (two contact-wire nodes), its shape-function weights and the
+    element's point-load compliance are evaluated once for every time step, with the
+    discretisation's :meth:`~presag_opt.static.discretisation.Discretisation.cw_shape` and
+    :meth:`~presag_opt.static.discretisation.Discretisation.cw_element_compliance`.
+    """
 
     pantograph: Pantograph
     dofs: np.ndarray
     start: float
     head_height: float
+    nodes: np.ndarray  # (n_steps + 1, 2) contact-wire nodes of the element under the head
+    weights: np.ndarray  # (n_steps + 1, 2) linear shape functions [-]
+    compliance: np.ndarray  # (n_steps + 1,) element deflection per unit force [m/N]
+
+
+def _contact_path(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Element nodes, shape weights [-] and element compliance [m/N] at contact-wire stations [m]."""
+    disc = state.discretisation
+    shape = disc.cw_shape(stations)  # two stored entries per row, zeros included, nodes in order
+    return shape.indices.reshape(-1, 2), shape.data.reshape(-1, 2), disc.cw_element_compliance(stations)
 
 
 class _Interaction:
     """Contact, friction and dropper forces of the coupled system (the integrator's callbacks)."""
 
-    def __init__(self, model: StructuralModel, couplings: list[_Coupling], speed: float, friction: FrictionRegularisation):
+    def __init__(
+        self, model: StructuralModel, couplings: list[_Coupling], time_step: float, friction: FrictionRegularisation
+    ):
         self.model = model
         self.couplings = couplings
-        self.speed = speed
+        self.time_step = time_step
         self.friction = friction
 
-    def contact(self, coupling: _Coupling, u: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray, float, float, float]:
-        """Wire nodes, shape weights, element compliance [m/N], contact stiffness [N/m] and penetration [m]."""
+    def contact(
+        self, coupling: _Coupling, u: np.ndarray, t: float
+    ) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+        """Wire nodes, shape weights, element compliance [m/N], contact stiffness [N/m] and penetration [m].
+
+        The penetration is measured to the chord between the element's nodes; the element's own
+        deflection is in series with the penalty spring, inside the contact stiffness. ``t`` is a
+        multiple of the time step (the integrator's step and record times).
+        """
+        step = int(round(t / self.time_step))
+        nodes, weights, compliance = coupling.nodes[step], coupling.weights[step], coupling.compliance[step]
         model = self.model
-        nodes, weights, compliance = model.cw_interpolation(coupling.start + self.speed * t)
         wire = weights @ (model.cw_height[nodes] + u[model.cw_z[nodes]])
         penetration = coupling.head_height + u[coupling.dofs[0]] - wire
         stiffness = 1.0 / (1.0 / coupling.pantograph.contact.stiffness + compliance)
@@ -381,6 +408,9 @@ class _Interaction:
 
 def _stack(parts: list[NonlinearForce]) -> NonlinearForce:
     """One NonlinearForce from several (block-diagonal tangents; repeated DOFs add up)."""
+    parts = [p for p in parts if len(p.dofs)]
+    if len(parts) <= 1:
+        return parts[0] if parts else NO_FORCE
     dofs = np.concatenate([p.dofs for p in parts])
     n = len(dofs)
     stiffness, damping = np.zeros((n, n)), np.zeros((n, n))
@@ -393,6 +423,119 @@ def _stack(parts: list[NonlinearForce]) -> NonlinearForce:
         start = end
     return NonlinearForce(
         dofs=dofs, force=np.concatenate([p.force for p in parts]), stiffness=stiffness, damping=damping
+    )
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunPlan:
+    """A checked run: everything :func:`simulate` decides before the catenary is form-found.
+
+    Attributes
+    ----------
+    operation : Operation
+        Validated operating point.
+    pantographs : tuple of Pantograph
+        One per position, front to rear.
+    wave_speed : float
+        Contact-wire wave speed. [m/s]
+    speed_ratio : float
+        β = v / c. [-]
+    doppler_factor : float
+        (c − v)/(c + v). [-]
+    analysed_spans : tuple of int
+        Spans (from 0) of the analysed section.
+    analysed_section : tuple of float
+        Stations where the analysed section starts and ends. [m]
+    starts : ndarray
+        Station of each pantograph's contact point at t = 0, front to rear. [m]
+    duration : float
+        Simulated time. [s]
+    """
+
+    operation: Operation
+    pantographs: tuple[Pantograph, ...]
+    wave_speed: float
+    speed_ratio: float
+    doppler_factor: float
+    analysed_spans: tuple[int, ...]
+    analysed_section: tuple[float, float]
+    starts: np.ndarray
+    duration: float
+
+    def window(self, pantograph: int) -> tuple[float, float]:
+        """Times the given pantograph (from 0, front to rear) is in the analysed section. [s]"""
+        start, end = self.analysed_section
+        speed = self.operation.speed
+        return (start - self.starts[pantograph]) / speed, (end - self.starts[pantograph]) / speed
+
+
+def plan_run(
+    catenary: Catenary,
+    pantograph: Pantograph | Sequence[Pantograph],
+    *,
+    speed: float,
+    static_force: float,
+    aero_coefficient: float = 0.0,
+    spacings: Sequence[float] | None = None,
+    settings: SimulationSettings | None = None,
+) -> RunPlan:
+    """Check a run's inputs and lay out its route, without form-finding (fast).
+
+    Parameters are those of :func:`simulate`. The leading pantograph starts ``lead_in_spans`` before
+    the analysed section, the others behind it at their spacings; the run ends ``run_out`` seconds
+    after the rear pantograph leaves the section.
+
+    Returns
+    -------
+    RunPlan
+
+    Raises
+    ------
+    ModelError
+        See :func:`simulate`.
+    """
+    settings = settings or SimulationSettings()
+    operation = Operation(speed=speed, static_force=static_force, aero_coefficient=aero_coefficient, spacings=spacings)
+    pantographs = _pantographs(pantograph, len(operation.offsets))
+    for p in pantographs:
+        p.check_time_step(settings.integrator.time_step)
+    wave_speed = catenary.contact_wire.wave_speed
+    doppler = doppler_factor(operation.speed, wave_speed)  # raises at v >= c, warns above β = 0.7
+
+    masts = np.concatenate([[0.0], np.cumsum(catenary.layout.span_lengths)])
+    n_spans = len(masts) - 1
+    n_analysed, lead_in = settings.analysed_spans, settings.lead_in_spans
+    first = (n_spans - n_analysed) // 2
+    if n_analysed > n_spans or first - lead_in < 0:
+        raise ModelError(
+            f"the section has {n_spans} spans: too few for {n_analysed} analysed central span(s) after "
+            f"{lead_in} lead-in span(s) (analysed_spans + 2·lead_in_spans <= {n_spans})"
+        )
+    section = (float(masts[first]), float(masts[first + n_analysed]))
+    starts = float(masts[first - lead_in]) - operation.offsets
+    rear_end = section[1] + operation.speed * settings.run_out
+    train = float(operation.offsets[-1])
+    if starts[-1] < masts[0]:
+        raise ModelError(
+            f"the rear pantograph would start {-starts[-1]:.1f} m before the section: the train is {train:.1f} m "
+            f"long and the leading pantograph starts at {starts[0]:.1f} m ({lead_in} lead-in span(s))"
+        )
+    if rear_end + train > masts[-1]:
+        raise ModelError(
+            f"the leading pantograph would run off the section: it must reach {rear_end + train:.1f} m "
+            f"(analysed section ends at {section[1]:.1f} m, run-out {settings.run_out:g} s, train "
+            f"{train:.1f} m long) but the section ends at {masts[-1]:.1f} m"
+        )
+    return RunPlan(
+        operation=operation,
+        pantographs=tuple(pantographs),
+        wave_speed=wave_speed,
+        speed_ratio=operation.speed / wave_speed,
+        doppler_factor=doppler,
+        analysed_spans=tuple(range(first, first + n_analysed)),
+        analysed_section=section,
+        starts=starts,
+        duration=(rear_end - starts[-1]) / operation.speed,
     )
 
 
@@ -437,21 +580,20 @@ def simulate(
         Bad operating point (non-positive force or speed, speed at or above the wave speed), a time
         step too large for a pantograph's contact stiffness, a section too short for the lead-in,
         the analysed spans and the train, or a pantograph list that does not match the spacings.
+        All are found before the catenary is form-found (see :func:`plan_run`).
     ConvergenceError
         If the initial static contact or a time step does not converge.
     """
     started = wallclock.perf_counter()
     settings = settings or SimulationSettings()
-    operation = Operation(speed=speed, static_force=static_force, aero_coefficient=aero_coefficient, spacings=spacings)
-    pantographs = _pantographs(pantograph, len(operation.offsets))
-    for p in pantographs:
-        p.check_time_step(settings.integrator.time_step)
     catenary = system.catenary if isinstance(system, EquilibriumState) else system
-    wave_speed = catenary.contact_wire.wave_speed
-    beta = speed_ratio(operation.speed, wave_speed)
+    plan = plan_run(
+        catenary, pantograph, speed=speed, static_force=static_force, aero_coefficient=aero_coefficient,
+        spacings=spacings, settings=settings,
+    )
     state = system if isinstance(system, EquilibriumState) else form_find(system, settings.static)
     model = structural_model(state, settings=settings.structure)
-    route = _route(state, operation, settings)
+    operation, pantographs = plan.operation, plan.pantographs
 
     n_c = model.n_dofs
     sizes = [p.n_dofs for p in pantographs]
@@ -462,28 +604,30 @@ def simulate(
     stiffness = sp.block_diag([model.stiffness] + [p.stiffness_matrix() for p in pantographs], format="csr")
 
     uplift = operation.uplift_force
-    starts = route.rear_start + operation.offsets[-1] - operation.offsets
-    load = np.zeros(n_c)
-    for x in starts:
-        nodes, weights, _ = model.cw_interpolation(x)
-        np.add.at(load, model.cw_z[nodes], uplift * weights)
+    disc = state.discretisation
+    load = sum(disc.cw_load_vector(x, uplift) for x in plan.starts)[model.global_dofs]
     u0 = np.zeros(n)
     u0[:n_c] = model.static_response(load)
+    dt = settings.integrator.time_step
+    times = dt * np.arange(int(np.ceil(plan.duration / dt - 1e-9)) + 1)  # the integrator's record times
     couplings = []
-    for p, dof, x in zip(pantographs, first_dof, starts):
-        nodes, weights, compliance = model.cw_interpolation(x)
-        wire = weights @ (model.cw_height[nodes] + u0[model.cw_z[nodes]]) + compliance * uplift
-        couplings.append(_Coupling(p, dof + np.arange(p.n_dofs), float(x), wire + uplift / p.contact.stiffness))
-    interaction = _Interaction(model, couplings, operation.speed, settings.friction)
+    for p, dof, x in zip(pantographs, first_dof, plan.starts):
+        nodes, weights, compliance = _contact_path(state, x + operation.speed * times)
+        wire = weights[0] @ (model.cw_height[nodes[0]] + u0[model.cw_z[nodes[0]]]) + compliance[0] * uplift
+        couplings.append(
+            _Coupling(p, dof + np.arange(p.n_dofs), float(x), wire + uplift / p.contact.stiffness, nodes, weights,
+                      compliance)
+        )
+    interaction = _Interaction(model, couplings, dt, settings.friction)
     external = np.zeros(n)
     external[[c.dofs[0] for c in couplings]] = uplift
 
-    recorded = _recorded_droppers(model, route, settings)
+    recorded = _recorded_droppers(model, plan.analysed_section, settings)
     result = integrate(
         mass,
         damping,
         stiffness,
-        duration=route.duration,
+        duration=plan.duration,
         settings=settings.integrator,
         external_force=lambda t: external,
         nonlinear_force=interaction.force,
@@ -501,10 +645,7 @@ def simulate(
     histories = []
     column = 0
     for i, coupling in enumerate(couplings):
-        window = (
-            (route.section[0] - coupling.start) / operation.speed,
-            (route.section[1] - coupling.start) / operation.speed,
-        )
+        window = plan.window(i)
         stages = slice(column, column + len(coupling.dofs))
         column += len(coupling.dofs)
         histories.append(
@@ -523,17 +664,16 @@ def simulate(
                 ),
             )
         )
-    disc = state.discretisation
     return SimulationResult(
         catenary_name=catenary.name,
         operation=operation,
-        wave_speed=wave_speed,
-        speed_ratio=beta,
-        doppler_factor=doppler_factor(operation.speed, wave_speed),
+        wave_speed=plan.wave_speed,
+        speed_ratio=plan.speed_ratio,
+        doppler_factor=plan.doppler_factor,
         time=time,
         pantographs=tuple(histories),
-        analysed_spans=route.spans,
-        analysed_section=route.section,
+        analysed_spans=plan.analysed_spans,
+        analysed_section=plan.analysed_section,
         support_station=disc.mast_station.copy(),
         support_uplift=support_uplift,
         dropper_station=model.droppers.station[recorded],
@@ -547,49 +687,13 @@ def simulate(
     )
 
 
-@dataclass(frozen=True)
-class _Route:
-    """Analysed spans, their stations, the rear pantograph's start and the run's duration."""
-
-    spans: tuple[int, ...]
-    section: tuple[float, float]
-    rear_start: float
-    duration: float
-
-
-def _route(state: EquilibriumState, operation: Operation, settings: SimulationSettings) -> _Route:
-    masts = state.discretisation.mast_station
-    n_spans = len(masts) - 1
-    n_analysed, lead_in = int(settings.analysed_spans), int(settings.lead_in_spans)
-    first = (n_spans - n_analysed) // 2
-    train = float(operation.offsets[-1])
-    if n_analysed > n_spans or first - lead_in < 0:
-        raise ModelError(
-            f"the section has {n_spans} spans: too few for {n_analysed} analysed central span(s) after "
-            f"{lead_in} lead-in span(s) (analysed_spans + 2·lead_in_spans <= {n_spans})"
-        )
-    section = (float(masts[first]), float(masts[first + n_analysed]))
-    rear_start = float(masts[first - lead_in])
-    rear_end = section[1] + operation.speed * settings.run_out
-    if rear_end + train > masts[-1]:
-        raise ModelError(
-            f"the leading pantograph would run off the section: it must reach {rear_end + train:.1f} m "
-            f"(analysed section ends at {section[1]:.1f} m, run-out {settings.run_out:g} s, train "
-            f"{train:.1f} m long) but the section ends at {masts[-1]:.1f} m"
-        )
-    return _Route(
-        spans=tuple(range(first, first + n_analysed)),
-        section=section,
-        rear_start=rear_start,
-        duration=(rear_end - rear_start) / operation.speed,
-    )
-
-
-def _recorded_droppers(model: StructuralModel, route: _Route, settings: SimulationSettings) -> np.ndarray:
+def _recorded_droppers(
+    model: StructuralModel, section: tuple[float, float], settings: SimulationSettings
+) -> np.ndarray:
     if settings.droppers == "all":
         return np.arange(len(model.droppers))
     station = model.droppers.station
-    return np.flatnonzero((station >= route.section[0]) & (station <= route.section[1]))
+    return np.flatnonzero((station >= section[0]) & (station <= section[1]))
 
 
 def _pantographs(pantograph: Pantograph | Sequence[Pantograph], count: int) -> list[Pantograph]:

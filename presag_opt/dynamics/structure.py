@@ -29,18 +29,23 @@ Degrees of freedom: 3-D
 Mass: lumped
     The node masses of the discretisation (wire mass shared between an element's two nodes,
     dropper clamps, half a steady arm, support masses) on each of the node's three translations.
-    Lumped masses keep M diagonal (no extra fill in the effective matrix) and, with the linear
-    string-like wire elements, give a phase speed below sqrt(T/ρ) by only
-    1 − sin(kh/2)/(kh/2) ≈ (kh)²/24: 0.1 % for the 20 Hz content of the contact force
-    (wavelength c/f ≈ 5 m) at 0.5 m elements. The half-arm mass at the clamp overstates the
-    rotary inertia of a uniform arm (m/3 at the tip) by 1/6 of the arm mass (0.17 kg, against
-    about 0.6 kg of wire and clamps at a registration node).
+    Lumped masses keep M diagonal (no extra fill in the effective matrix). With the linear
+    string-like wire elements the phase speed falls below sqrt(T/ρ) by 1 − sin(kh/2)/(kh/2) ≈
+    (kh)²/24: 1.8 % for 20 Hz waves on ST 9,8/9,8 (wavelength c/f = 4.8 m) at 0.5 m elements,
+    0.5 % at 0.25 m. Ahead of a fast pantograph the waves it meets at 20 Hz are shorter,
+    (c − v)/f: 1.9 m at 300 km/h on the EN 50318-style wire, where 0.5 m elements are 11 % slow;
+    there (β ≈ 0.7) σ needs 0.25 m elements (see the convergence figures of issue 4). The half-arm
+    mass at the clamp overstates the rotary inertia of a uniform arm (m/3 at the tip) by 1/6 of
+    the arm mass (0.17 kg, against about 0.6 kg of wire and clamps at a registration node).
 
 Stiffness: the tangent stiffness at the equilibrium
     The Hessian of the static model's potential energy on the free DOFs (:meth:`EquilibriumState.
     tangent_stiffness`): material and geometric stiffness of wires, droppers and steady arms,
-    bending of the wires, support springs. Small displacements about the equilibrium: the wires'
-    tension changes are second order for uplifts of centimetres on spans of tens of metres.
+    bending of the wires, support springs. Small displacements about the equilibrium: geometric
+    nonlinearity is left out. Against re-solved equilibria (tension-only droppers in both) the
+    uplift under a point load agrees within 0.03 % on the EN 50318-style model (spring supports) at
+    120 N; with steady arms (ST 9,8/9,8, arms inclined 24°) the arm's rotation makes the wire near
+    a mast up to 1.7 % softer at 120 N (6 % at 200 N) than the linear model, mid-span within 0.2 %.
 
 Damping: Rayleigh, C = α M + β K
     From the catenary's ``damping``: Rayleigh coefficients as given (the EN 50318 reference model
@@ -73,13 +78,13 @@ R. W. Clough, J. Penzien, *Dynamics of Structures*, 2nd ed., McGraw-Hill 1993, s
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from presag_opt.dynamics.integrator import NonlinearForce
+from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.system.catenary import Damping
@@ -157,6 +162,8 @@ class DropperLinearisation:
         Along-track distance from the first mast. [m]
     span : ndarray of int, shape (n,)
         Span of each dropper, from 0. [-]
+    gradient : ndarray, shape (n, 6)
+        Derivative of each dropper's stretch e·(Δu_MW − Δu_CW) with respect to its six DOFs, [−e, e]. [-]
     """
 
     dofs: np.ndarray
@@ -165,6 +172,7 @@ class DropperLinearisation:
     preload: np.ndarray
     station: np.ndarray
     span: np.ndarray
+    gradient: np.ndarray
 
     def __len__(self) -> int:
         return len(self.preload)
@@ -215,7 +223,6 @@ class StructuralModel:
     cw_height: np.ndarray
     support_z: np.ndarray
     droppers: DropperLinearisation
-    _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def n_dofs(self) -> int:
@@ -223,9 +230,9 @@ class StructuralModel:
         return self.mass.shape[0]
 
     @property
-    def cw_station(self) -> np.ndarray:
-        """Along-track distance of each contact-wire node from the first mast. [m]"""
-        return self.state.discretisation.cw_station
+    def global_dofs(self) -> np.ndarray:
+        """Degree of freedom of the static model (3·node + component) of each model DOF."""
+        return self.state.model.functions.free_dofs
 
     def damping_ratio(self, frequency: float | np.ndarray) -> float | np.ndarray:
         """Modal damping ratio of the Rayleigh damping at a frequency, α/(2ω) + βω/2. [-]
@@ -246,18 +253,19 @@ class StructuralModel:
 
         Parameters
         ----------
-        u : ndarray, shape (n_dofs,) or (n_times, n_dofs)
-            Displacements from the equilibrium. [m]
+        u : ndarray
+            Displacements from the equilibrium; the model DOFs first (entries after them, such as
+            pantograph DOFs, are ignored). [m]
         v : ndarray, optional
-            Velocities, same shape. [m/s]
+            Velocities, laid out like ``u``. [m/s]
         """
         return np.maximum(self._axial_force(u, v), 0.0)
 
     def _axial_force(self, u: np.ndarray, v: np.ndarray | None) -> np.ndarray:
         d = self.droppers
-        rate = np.asarray(u) if v is None or not self.rayleigh_beta else np.asarray(u) + self.rayleigh_beta * np.asarray(v)
-        local = rate[..., d.dofs]
-        stretch = np.einsum("...ij,ij->...i", local[..., 3:] - local[..., :3], d.direction)
+        stretch = np.einsum("ij,ij->i", u[d.dofs], d.gradient)
+        if v is not None and self.rayleigh_beta:
+            stretch += self.rayleigh_beta * np.einsum("ij,ij->i", v[d.dofs], d.gradient)
         return d.preload + d.axial_stiffness * stretch
 
     def dropper_slack_force(self, u: np.ndarray, v: np.ndarray | None = None) -> NonlinearForce:
@@ -286,10 +294,9 @@ class StructuralModel:
         axial = self._axial_force(u, v)
         slack = np.flatnonzero(axial < 0.0)
         if not len(slack):
-            return NonlinearForce(dofs=np.zeros(0, dtype=int), force=np.zeros(0), stiffness=np.zeros((0, 0)))
+            return NO_FORCE
         d = self.droppers
-        e = d.direction[slack]
-        b = np.concatenate([-e, e], axis=1)
+        b = d.gradient[slack]
         block = _block_diagonal(-d.axial_stiffness[slack, None, None] * np.einsum("ni,nj->nij", b, b))
         return NonlinearForce(
             dofs=d.dofs[slack].ravel(),
@@ -298,39 +305,13 @@ class StructuralModel:
             damping=self.rayleigh_beta * block,
         )
 
-    def cw_interpolation(self, station: float) -> tuple[np.ndarray, np.ndarray, float]:
-        """Contact-wire element holding a station: its two nodes, shape weights and compliance.
-
-        Parameters
-        ----------
-        station : float
-            Distance from the first mast along the track. [m]
-
-        Returns
-        -------
-        nodes : ndarray of int, shape (2,)
-            Positions of the element's two nodes in the contact wire (indices into ``cw_z``).
-        weights : ndarray, shape (2,)
-            Linear shape functions (1 − t, t) at the station. [-]
-        compliance : float
-            Deflection per unit force of the loaded element relative to the chord between its
-            nodes, h t (1 − t)/T (the term :func:`~presag_opt.elasticity.linear_elasticity` adds). [m/N]
-        """
-        s = self.cw_station
-        if not s[0] - 1e-9 <= station <= s[-1] + 1e-9:
-            raise ModelError(f"station {station:g} m lies outside the section [0, {s[-1]:g}] m")
-        right = min(max(int(np.searchsorted(s, station, side="right")), 1), len(s) - 1)
-        h = s[right] - s[right - 1]
-        t = min(max((station - s[right - 1]) / h, 0.0), 1.0)
-        tension = self.state.catenary.contact_wire.tension
-        return np.array([right - 1, right]), np.array([1.0 - t, t]), h * t * (1.0 - t) / tension
-
     def static_response(self, load: np.ndarray, *, max_iterations: int = 30) -> np.ndarray:
         """Static displacement under extra loads, droppers tension-only (semi-smooth Newton).
 
         Solves K u + f_slack(u) = load, where f_slack removes the slack droppers; each iteration
-        factorises the tangent with the current set of slack droppers. Converged when the set no
-        longer changes and the residual is below 1e-9 of the load.
+        factorises the tangent with the current set of slack droppers. Converged when the residual
+        is below 1e-9 of the largest load entry (the law is piecewise linear, so the set of slack
+        droppers has then settled).
 
         Parameters
         ----------
@@ -352,7 +333,7 @@ class StructuralModel:
         u = self.state.factorised_stiffness().solve(load)
         scale = max(float(np.abs(load).max()), 1e-12)
         residual = np.inf
-        for iteration in range(max_iterations):
+        for _ in range(max_iterations):
             slack = self.dropper_slack_force(u)
             residual_vector = self.stiffness @ u - load
             np.add.at(residual_vector, slack.dofs, slack.force)
@@ -454,6 +435,7 @@ def _linearise_droppers(state: EquilibriumState, position_of: np.ndarray) -> Dro
     return DropperLinearisation(
         dofs=dofs,
         direction=e,
+        gradient=np.concatenate([-e, e], axis=1),
         axial_stiffness=state.params.axial_stiffness[elements],
         preload=preload,
         station=disc.mast_station[disc.dropper_span] + disc.dropper_position,

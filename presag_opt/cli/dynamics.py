@@ -1,0 +1,184 @@
+"""``presag simulate``: dynamic pantograph–catenary simulation with EN 50367 statistics."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+
+from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.static import add_element_flag
+from presag_opt.dynamics.case import SimulationCase, load_case
+from presag_opt.dynamics.integrator import IntegratorSettings
+from presag_opt.dynamics.pantograph import load_pantograph
+from presag_opt.dynamics.simulate import Operation, SimulationResult, SimulationSettings
+from presag_opt.errors import ModelError
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import form_find
+from presag_opt.system.loader import builtin_model_names, load_catenary
+
+SCHEMES = {
+    "hht": IntegratorSettings(scheme="hht", hht_alpha=-0.005),
+    "newmark": IntegratorSettings(scheme="newmark"),
+}
+"""Integration schemes offered on the command line (HHT with the paper's numerical damping 0.005, or
+average-acceleration Newmark)."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``simulate`` sub-command."""
+    cases = ", ".join(builtin_model_names("cases"))
+    p = subparsers.add_parser(
+        "simulate",
+        help="dynamic pantograph-catenary simulation (EN 50367 statistics)",
+        description=(
+            "Run pantographs under a catenary at constant speed and print the contact-force statistics over the "
+            "central spans. Either a catenary MODEL with --pantograph, --speed and --static-force, or a --case "
+            f"file that bundles them (built-in cases: {cases})."
+        ),
+    )
+    p.add_argument("model", nargs="?", default=None, help="catenary model file or built-in name")
+    p.add_argument("--case", metavar="FILE", default=None, help="case file or built-in case name")
+    p.add_argument("--pantograph", metavar="FILE", default=None, help="pantograph model file or built-in name")
+    p.add_argument(
+        "--speed", metavar="KMH", type=float_list, default=None,
+        help="train speed in km/h, or several comma-separated (default with --case: the case's speeds)",
+    )
+    p.add_argument("--static-force", metavar="N", type=positive_float, default=None, help="static uplift force in N")
+    p.add_argument(
+        "--aero", metavar="N_per_kmh2", type=positive_float, default=None,
+        help="aerodynamic uplift coefficient in N/(km/h)^2: F_m = F_stat + aero*v^2 (default 0, or the case's)",
+    )
+    p.add_argument(
+        "--presag", metavar="MM", type=positive_float, default=None,
+        help="override the catenary's pre-sag: mid-span pre-sag of the longest span in mm",
+    )
+    p.add_argument(
+        "--spacing", metavar="M", type=float_list, default=None,
+        help="several pantographs: distances between consecutive pantographs in m, comma-separated",
+    )
+    p.add_argument("--time-step", metavar="MS", type=positive_float, default=2.0, help="time step in ms (default 2)")
+    p.add_argument(
+        "--scheme", choices=sorted(SCHEMES), default="hht",
+        help="hht: HHT-alpha with alpha = -0.005, the paper's numerical damping (default); "
+        "newmark: average acceleration",
+    )
+    add_element_flag(p)
+    p.add_argument("--plot", metavar="FILE", default=None, help="save contact force against position (PNG, PDF or SVG)")
+    add_json_flag(p)
+    p.set_defaults(handler=simulate_command)
+
+
+def simulate_command(args: argparse.Namespace) -> int:
+    """Handler of ``presag simulate``."""
+    case = _case(args)
+    speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
+    if not speeds:
+        raise ModelError("--speed: give at least one speed in km/h")
+    settings = dataclasses.replace(
+        case.settings,
+        integrator=dataclasses.replace(SCHEMES[args.scheme], time_step=args.time_step * 1e-3),
+        static=StaticSettings(element_length=args.element_length),
+    )
+    for speed in speeds:  # every input is checked before the form-finding starts
+        case.plan(speed, settings)
+    state = form_find(case.catenary, settings.static)
+    results = []
+    for speed in speeds:
+        if not args.json:
+            print(f"simulating {speed * 3.6:g} km/h ...", file=sys.stderr, flush=True)
+        results.append(case.run(speed, state=state, settings=settings))
+    if args.plot:
+        from presag_opt.plotting import plot_contact_force
+
+        plot_contact_force(results, args.plot)
+    if args.json:
+        if len(results) == 1:
+            print_json(results[0].to_dict())
+        else:
+            print_json({"case": case.name, "runs": [r.to_dict() for r in results]})
+        return 0
+    _print_table(case, results)
+    if args.plot:
+        print(f"\nPlot saved to {args.plot}")
+    return 0
+
+
+def _case(args: argparse.Namespace) -> SimulationCase:
+    """The case from ``--case``, or one built from MODEL and the flags; flags override a case's values."""
+    if args.case is not None and args.model is not None:
+        raise ModelError("give either a catenary MODEL or --case, not both")
+    if args.case is None:
+        if args.model is None:
+            raise ModelError("give a catenary MODEL (e.g. st_9.8_ideal) or --case FILE")
+        missing = [flag for flag, value in (("--pantograph", args.pantograph), ("--speed", args.speed),
+                                            ("--static-force", args.static_force)) if value is None]
+        if missing:
+            raise ModelError(f"{', '.join(missing)} required with a catenary MODEL (or use --case FILE)")
+        catenary = load_catenary(args.model)
+        case = SimulationCase(
+            name=catenary.name,
+            description="",
+            catenary=catenary,
+            pantograph=load_pantograph(args.pantograph),
+            operation=Operation(speed=args.speed[0] / 3.6, static_force=args.static_force),
+            speeds=tuple(v / 3.6 for v in args.speed),
+            settings=SimulationSettings(),
+        )
+    else:
+        case = load_case(args.case)
+        if args.pantograph is not None:
+            case = dataclasses.replace(case, pantograph=load_pantograph(args.pantograph))
+    changes = {}
+    if args.static_force is not None:
+        changes["static_force"] = args.static_force
+    if args.aero is not None:
+        changes["aero_coefficient"] = args.aero * 3.6**2
+    if args.spacing is not None:
+        changes["spacings"] = tuple(args.spacing)
+    case = dataclasses.replace(case, operation=dataclasses.replace(case.operation, **changes))
+    if args.presag is not None:
+        catenary = case.catenary
+        presag_rel = args.presag * 1e-3 / max(catenary.layout.span_lengths)
+        case = dataclasses.replace(case, catenary=catenary.with_presag(presag_rel))
+    return case
+
+
+def _print_table(case: SimulationCase, results: list[SimulationResult]) -> None:
+    first = results[0]
+    op = first.operation
+    spans = first.analysed_spans
+    start, end = first.analysed_section
+    print(f"Dynamic simulation: {case.name}")
+    print(
+        f"catenary: {first.catenary_name}; pantograph: {case.pantograph.name}; F_stat {op.static_force:g} N; "
+        f"aero {op.aero_coefficient / 3.6**2:g} N/(km/h)^2"
+    )
+    print(
+        f"analysed: spans {spans[0] + 1}-{spans[-1] + 1} ({start:g}-{end:g} m), "
+        f"filter {first.settings.cutoff_frequency:g} Hz, time step {first.settings.integrator.time_step * 1e3:g} ms, "
+        f"contact-wire wave speed {first.wave_speed * 3.6:.0f} km/h\n"
+    )
+    rows = []
+    for r in results:
+        d = r.to_dict()
+        rows.append((
+            d["speed_kmh"], d["beta"], d["Fm_N"], d["sigma_N"], d["sigma_over_Fm"], d["stat_max_N"], d["stat_min_N"],
+            d["max_N"], d["min_N"], d["loss_of_contact_pct"], d["uplift_max_mm"], d["slack_droppers_max"],
+        ))
+    print(table(
+        ["v [km/h]", "β", "F_m [N]", "σ [N]", "σ/F_m", "F_m+3σ", "F_m-3σ", "max [N]", "min [N]", "loss [%]",
+         "uplift [mm]", "slack droppers"],
+        rows,
+        ["{:g}", "{:.3f}", "{:.1f}", "{:.2f}", "{:.3f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.2f}", "{:.1f}",
+         "{}"],
+    ))
+    for r in results:
+        if len(r.pantographs) > 1:
+            print(f"\n{r.operation.speed * 3.6:g} km/h, each pantograph:")
+            print(table(
+                ["offset [m]", "F_m [N]", "σ [N]", "max [N]", "min [N]", "loss [%]"],
+                [(p.offset, p.statistics.mean_force, p.statistics.std_force, p.statistics.max_force,
+                  p.statistics.min_force, 100 * p.statistics.loss_of_contact) for p in r.pantographs],
+                ["{:g}", "{:.1f}", "{:.2f}", "{:.1f}", "{:.1f}", "{:.2f}"],
+            ))

@@ -1,0 +1,129 @@
+"""``presag simulate``: JSON and plot output against the API, case files, and one-line errors."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from presag_opt.cli import main
+from presag_opt.dynamics.case import load_case
+from presag_opt.dynamics.pantograph import load_pantograph
+from presag_opt.dynamics.simulate import simulate
+from presag_opt.errors import ModelError
+
+REQUIRED_KEYS = (
+    "Fm_N", "sigma_N", "sigma_over_Fm", "stat_max_N", "stat_min_N", "max_N", "min_N",
+    "loss_of_contact_pct", "uplift_max_mm", "beta",
+)
+
+PANTOGRAPH_FILE = """
+[pantograph]
+name = "no frame mass"
+
+[[stages]]
+name = "head"
+mass = { value = 7.2, unit = "kg", source = "assumed" }
+stiffness = { value = 4200, unit = "N/m", source = "assumed" }
+
+[[stages]]
+name = "frame"
+damping = { value = 90, unit = "N*s/m", source = "assumed" }
+"""
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:
+    code = main(["simulate", *args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_json_and_plot_match_the_api_in_user_units(capsys, tmp_path, st98):
+    """The command line converts km/h and N/(km/h)² to SI and calls simulate(): its JSON equals the
+    API's statistics for the same inputs (form-finding and integration are deterministic; 1e-9)."""
+    plot = tmp_path / "force.png"
+    code, out, _ = _run(
+        capsys, "st_9.8_ideal", "--pantograph", "case_study_2mass_friction", "--speed", "180",
+        "--static-force", "120", "--aero", "0.00097", "--json", "--plot", str(plot),
+    )
+    assert code == 0
+    printed = json.loads(out)
+    assert set(REQUIRED_KEYS) <= set(printed)
+    api = simulate(
+        st98, load_pantograph("case_study_2mass_friction"), speed=50.0, static_force=120.0,
+        aero_coefficient=0.00097 * 3.6**2,
+    ).to_dict()
+    for key in REQUIRED_KEYS:
+        assert printed[key] == pytest.approx(api[key], rel=1e-9, abs=1e-9), key
+    assert printed["speed_kmh"] == pytest.approx(180.0, rel=1e-12)
+    assert printed["aero_force_N"] == pytest.approx(0.00097 * 180.0**2, rel=1e-12)
+    assert printed["analysed_spans"] == [5, 6]
+    assert plot.stat().st_size > 10_000
+
+
+def test_case_files_load_with_their_documented_values():
+    """DESIGN 4.3: 115 N, no aerodynamics, 250 and 300 km/h, two central spans, 20 Hz. The case
+    study: ST 9,8/9,8 ideal spans, 120 N, 0.00097 N/(km/h)² (12.57 mN/(m/s)²), the paper's speeds."""
+    en = load_case("en50318_2002")
+    assert en.catenary.name == "EN 50318-style reference catenary"
+    assert en.pantograph.stages[1].stiffness == 50.0
+    assert (en.operation.static_force, en.operation.aero_coefficient) == (115.0, 0.0)
+    assert [round(v * 3.6, 9) for v in en.speeds] == [250.0, 300.0]
+    assert (en.settings.analysed_spans, en.settings.cutoff_frequency) == (2, 20.0)
+    study = load_case("case_study_st98")
+    assert study.catenary.contact_wire.tension == 9800.0
+    assert study.pantograph.stages[1].friction == 5.0
+    assert study.operation.static_force == 120.0
+    assert study.operation.aero_coefficient == pytest.approx(0.00097 * 3.6**2, rel=1e-12)
+    assert [round(v * 3.6, 9) for v in study.speeds] == [50, 60, 70, 80, 90, 100, 120, 140, 160, 180]
+    assert study.provenance["operation.static_force"].source == "assumed"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--case", "en50318_2002", "--speed", "450"],
+         r"speed = 450 km/h is outside the valid range \[0, 438.1\d*\) km/h"),
+        (["st_9.8_ideal", "--pantograph", "en50318_2mass", "--speed", "90", "--static-force", "0"],
+         r"static_force = 0 N is outside the valid range \(0, 500\] N"),
+        (["st_9.8_ideal", "--pantograph", "en50318_2mass", "--speed", "90", "--static-force", "100",
+          "--time-step", "10"], r"time_step = 10 ms is too large for contact stiffness 50 kN/m"),
+        (["st_9.8_ideal", "--speed", "90"], r"--pantograph, --static-force required with a catenary MODEL"),
+        (["st_9.8_ideal", "--case", "en50318_2002"], r"give either a catenary MODEL or --case, not both"),
+        (["--case", "no_such_case"], r"model 'no_such_case' is neither a file nor a built-in case model"),
+        (["--case", "en50318_2002", "--aero", "-0.001"], r"aero_coefficient = -0.001 N/\(km/h\)\^2 is outside"),
+    ],
+)
+def test_bad_input_ends_with_one_line_and_status_2(capsys, args, message):
+    """Errors come before form-finding: each call returns at once."""
+    code, out, err = _run(capsys, *args)
+    assert code == 2
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith("presag: error: ")
+    assert re.search(message, err), err
+
+
+def test_pantograph_file_with_a_missing_field_is_a_one_line_error(capsys, tmp_path):
+    path = tmp_path / "broken.toml"
+    path.write_text(PANTOGRAPH_FILE, encoding="utf-8")
+    code, _, err = _run(capsys, "st_9.8_ideal", "--pantograph", str(path), "--speed", "90", "--static-force", "100")
+    assert code == 2
+    assert "broken.toml: [stages[1]]: missing required key(s) mass" in err
+
+
+def test_case_file_with_an_unknown_key_names_it(tmp_path):
+    text = (
+        '[case]\nname = "x"\ncatenary = "st_9.8_ideal"\npantograph = "en50318_2mass"\n'
+        '[operation]\nstatic_force = { value = 100, unit = "N", source = "assumed" }\n'
+        'speeds = { value = [90], unit = "km/h", source = "assumed" }\n'
+        '[analysis]\nelement_size = { value = 0.5, unit = "m", source = "assumed" }\n'
+    )
+    path = tmp_path / "case.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ModelError, match=r"case.toml: \[analysis\]: unknown key 'element_size'; valid keys: analysed_"):
+        load_case(path)
+    valid_analysis = text.replace("element_size", "run_out").replace('"m"', '"s"')
+    path.write_text(valid_analysis.replace("[90]", "[-90]"), encoding="utf-8")
+    with pytest.raises(ModelError, match=r"operation.speeds\[0\] = -90 km/h is outside the valid range \(0, 600\]"):
+        load_case(path)
