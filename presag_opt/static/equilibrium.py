@@ -228,6 +228,21 @@ def _replace_force(params: PhysicalParameters, force: np.ndarray) -> PhysicalPar
     return PhysicalParameters(**{**params.__dict__, "nodal_force": force})
 
 
+ROUND_OFF_FACTOR = 16.0
+"""Multiple of machine epsilon in the round-off floor of the force tolerance. [-]"""
+
+
+def force_tolerance(params: PhysicalParameters, x: np.ndarray, settings: StaticSettings) -> float:
+    """Out-of-balance force accepted at equilibrium. [N]
+
+    ``settings.force_tolerance``, but never below the round-off of the nodal forces: an element of
+    stiffness k between nodes at coordinates of size |x| cannot balance better than about
+    ε·k·|x| (ε machine epsilon); short stiff elements far from the origin reach 1e-4 N.
+    """
+    floor = ROUND_OFF_FACTOR * np.finfo(float).eps * float(params.axial_stiffness.max()) * float(np.abs(x).max())
+    return max(settings.force_tolerance, floor)
+
+
 def newton_equilibrium(
     model: StaticModel, params: PhysicalParameters, x0: np.ndarray, settings: StaticSettings
 ) -> tuple[np.ndarray, int]:
@@ -252,10 +267,11 @@ def newton_equilibrium(
     funcs = model.functions
     free = funcs.free_dofs
     x = x0.copy()
+    tolerance = force_tolerance(params, x, settings)
     hess, grad = funcs.hessian_values(x, params)
     residual = np.abs(grad).max(initial=0.0)
     for iteration in range(settings.max_newton_iterations):
-        if residual <= settings.force_tolerance:
+        if residual <= tolerance:
             return x, iteration
         try:
             step = -funcs.solver.factorise(hess).solve(grad)
@@ -275,11 +291,11 @@ def newton_equilibrium(
                 break
             alpha *= 0.5
         x, hess, grad, residual = trial, new_hess, new_grad, new_residual
-    if residual <= settings.force_tolerance:
+    if residual <= tolerance:
         return x, settings.max_newton_iterations
     raise ConvergenceError(
         f"equilibrium did not converge: largest out-of-balance force {residual:.3g} N after "
-        f"{settings.max_newton_iterations} Newton iterations (tolerance {settings.force_tolerance:g} N)",
+        f"{settings.max_newton_iterations} Newton iterations (tolerance {tolerance:.3g} N)",
         {"residual_N": residual, "iterations": settings.max_newton_iterations},
     )
 
@@ -495,10 +511,11 @@ def _check_form_found(state: EquilibriumState, target_dofs: np.ndarray, targets:
         )
     residual = np.abs(state.out_of_balance()).max()
     miss = np.abs(state.positions.ravel()[target_dofs] - targets).max()
-    if residual > settings.force_tolerance or miss > settings.geometry_tolerance:
+    tolerance = force_tolerance(state.params, state.positions.ravel(), settings)
+    if residual > tolerance or miss > settings.geometry_tolerance:
         raise ConvergenceError(
             f"form-finding result misses its tolerances: out-of-balance {residual:.3g} N "
-            f"(tolerance {settings.force_tolerance:g} N), geometry {miss:.3g} m (tolerance {settings.geometry_tolerance:g} m)",
+            f"(tolerance {tolerance:.3g} N), geometry {miss:.3g} m (tolerance {settings.geometry_tolerance:g} m)",
             {"residual_N": residual, "geometry_error_m": miss},
         )
 

@@ -9,7 +9,7 @@ import pytest
 
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import CONTACT_WIRE, MESSENGER_WIRE
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.equilibrium import force_tolerance, form_find
 from presag_opt.system.loader import load_catenary
 
 
@@ -49,7 +49,8 @@ def test_wires_carry_their_balance_weight_tension(fixture, request):
 def test_every_dropper_is_in_tension_and_the_state_is_balanced(fixture, request):
     state = request.getfixturevalue(fixture)
     assert np.all(state.dropper_forces() > 0.0)
-    assert np.abs(state.out_of_balance()).max() <= state.discretisation.settings.force_tolerance
+    assert np.abs(state.out_of_balance()).max() <= force_tolerance(state.params, state.positions.ravel(),
+                                                                   state.discretisation.settings)
 
 
 def test_ideal_span_dropper_lengths_are_symmetric(st98):
