@@ -53,8 +53,11 @@ section 5.2 (case-study recommendation, validity β ≤ 0.4, steady-arm uplift l
 from __future__ import annotations
 
 import math
+import multiprocessing
+import os
 import warnings
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
@@ -1114,6 +1117,15 @@ def _as_catenary(model: str | Path | Catenary) -> Catenary:
     return model if isinstance(model, Catenary) else load_catenary(model)
 
 
+def _layout_job(catenary, levels, step, elasticity_method, settings, band, method, speed, progress=None):
+    """One layout of :func:`recommend` (a top-level function so that a process pool can run it)."""
+    section = section_elasticity(
+        catenary, force_levels=levels, step=step, elasticity_method=elasticity_method, settings=settings,
+        progress=progress,
+    )
+    return layout_recommendation(section, band, method, speed)
+
+
 def recommend(
     *,
     models: Sequence[str | Path | Catenary] = CASE_STUDY_MODELS,
@@ -1187,18 +1199,17 @@ def recommend(
     speeds = [speed_context(c.contact_wire, band.speed_low, band.speed_high) for c in catenaries]
 
     def study(geometries: Sequence[Catenary]) -> tuple[LayoutRecommendation, ...]:
-        return tuple(
-            layout_recommendation(
-                section_elasticity(
-                    catenary, force_levels=levels, step=step, elasticity_method=elasticity_method,
-                    settings=settings, progress=progress,
-                ),
-                band,
-                method,
-                speed,
-            )
-            for catenary, speed in zip(geometries, speeds)
-        )
+        jobs = [(c, levels, step, elasticity_method, settings, band, method, speed) for c, speed in zip(geometries, speeds)]
+        workers = min(len(jobs), os.cpu_count() or 1)
+        if workers < 2:
+            return tuple(_layout_job(*job, progress=progress) for job in jobs)
+        # The layouts are independent: one process each (fork start, so nothing is re-imported).
+        if progress:
+            for c in geometries:
+                progress(f"{c.name}: form-finding and elasticity (in parallel)")
+        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+            return tuple(pool.map(_layout_job, *zip(*jobs)))
 
     def recommended_rel(layouts: Sequence[LayoutRecommendation]) -> float:
         return float(np.mean([end for lay in layouts for end in lay.presag_rel_range]))

@@ -8,14 +8,17 @@ import sys
 
 from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
 from presag_opt.cli.static import add_element_flag
-from presag_opt.dynamics.case import SimulationCase, load_case
+from typing import TYPE_CHECKING
+
 from presag_opt.dynamics.integrator import IntegratorSettings
-from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.simulate import Operation, SimulationResult, SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 from presag_opt.system.loader import builtin_model_names, load_catenary
+
+if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
+    from presag_opt.dynamics.case import SimulationCase
+    from presag_opt.dynamics.simulate import SimulationResult
 
 SCHEMES = {
     "hht": IntegratorSettings(scheme="hht", hht_alpha=-0.005),
@@ -105,6 +108,10 @@ def simulate_command(args: argparse.Namespace) -> int:
 
 
 def _case(args: argparse.Namespace) -> SimulationCase:
+    from presag_opt.dynamics.case import SimulationCase, load_case
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.dynamics.simulate import Operation, SimulationSettings
+
     """The case from ``--case``, or one built from MODEL and the flags; flags override a case's values."""
     if args.case is not None and args.model is not None:
         raise ModelError("give either a catenary MODEL or --case, not both")

@@ -7,7 +7,6 @@ import sys
 
 from presag_opt.cli.common import add_json_flag, print_json, table
 from presag_opt.errors import ModelError
-from presag_opt.robust import Buildability, Risk, robust_study
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 DEFAULT_MODEL = "st_9.8_ideal"
@@ -60,6 +59,8 @@ def parse_within(text: str) -> float:
 
 
 def _study(args: argparse.Namespace, **kwargs):
+    from presag_opt.robust import robust_study  # cvxpy is imported only when a robust command runs
+
     band = parse_band(args.fm_band)
     within = parse_within(args.within)
     catenary = load_catenary(args.model)
@@ -68,6 +69,8 @@ def _study(args: argparse.Namespace, **kwargs):
 
 
 def robust_command(args: argparse.Namespace) -> int:
+    from presag_opt.robust import Buildability, Risk
+
     risk = Risk.parse(args.risk)
     build = Buildability(step=args.step_mm * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
     study = _study(args, shape=args.shape, risk=risk, buildability=build)
