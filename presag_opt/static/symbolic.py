@@ -1,8 +1,11 @@
 """The CasADi boundary of the static model.
 
-Everything symbolic lives here: the total potential energy of a discretised catenary built once into
-named :class:`casadi.Function` objects, and the form-finding problem handed to IPOPT. Callers pass
-numpy arrays in and get numpy arrays (and SciPy sparse matrices) out.
+Everything symbolic lives here. The total potential energy of a discretised catenary is the sum of
+element energies defined once as small named :class:`casadi.Function` objects (an axial element and
+a bending triple, with their exact gradients and Hessians from CasADi's automatic differentiation);
+:func:`build_potential` maps them over all elements and scatters the results into global vectors
+and the fixed sparsity pattern of the tangent stiffness. The form-finding problem handed to IPOPT is
+built here as well. Callers pass numpy arrays in and get numpy arrays (and SciPy sparse matrices) out.
 
 Total potential energy (x: all node coordinates)::
 
@@ -105,52 +108,151 @@ def _spring_energy(disc: Discretisation, x, ks, ref):
     return energy
 
 
-def _potential_expression(disc: Discretisation, x, k, L0, slack, ei, ks, ref, f):
-    """Symbolic total potential energy (works on SX symbols or expressions)."""
-    every = np.arange(len(disc.axial))
-    return (
-        _axial_energy(disc, x, every, k, L0, slack)
-        + _bending_energy(disc, x, ei)
-        + _spring_energy(disc, x, ks, ref)
-        - ca.dot(f, x)
-    )
+def _element_functions() -> tuple[ca.Function, ca.Function]:
+    """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX).
+
+    Axial: the energy depends on the nodes only through d = x_b − x_a, so the function takes d (3),
+    stiffness k, unstretched length L0 and the slack flag, and returns the energy, ∂/∂d (3) and
+    ∂²/∂d² (3×3); :class:`PotentialFunctions` expands them to the two nodes with signs ∓.
+    Bending: inputs (x_a, x_b, x_c) stacked (9), EI, spacings h_ab and h_bc.
+    """
+    d = ca.SX.sym("d", 3)
+    k, L0, slack = ca.SX.sym("k"), ca.SX.sym("L0"), ca.SX.sym("slack")
+    stretch = ca.norm_2(d) - L0
+    taut = (1 - slack) * stretch + slack * ca.fmax(stretch, 0)
+    energy = 0.5 * k * taut**2
+    hess, grad = ca.hessian(energy, d)
+    axial = ca.Function("axial_element", [d, k, L0, slack], [energy, grad, ca.vec(hess)],
+                        ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy", "gradient", "hessian"])
+    r = ca.SX.sym("r", 9)
+    ei, h1, h2 = ca.SX.sym("ei"), ca.SX.sym("h1"), ca.SX.sym("h2")
+    curvature = (r[6:9] - r[3:6]) / h2 - (r[3:6] - r[0:3]) / h1
+    energy = ei / (h1 + h2) * ca.sumsqr(curvature)
+    hess, grad = ca.hessian(energy, r)
+    bending = ca.Function("bending_triple", [r, ei, h1, h2], [energy, grad, ca.vec(hess)],
+                          ["x", "bending_stiffness", "spacing_ab", "spacing_bc"], ["energy", "gradient", "hessian"])
+    return axial, bending
+
+
+_AXIAL, _BENDING = _element_functions()
+
+# Entry (i, j) of the 6×6 element Hessian, column-major (j·6 + i), from the 3×3 one in d = x_b − x_a:
+# H6[i, j] = σ_i σ_j H3[i mod 3, j mod 3] with σ = −1 on node a, +1 on node b.
+_I6, _J6 = np.tile(np.arange(6), 6), np.repeat(np.arange(6), 6)
+_AXIAL_ENTRY = (_J6 % 3) * 3 + _I6 % 3
+_AXIAL_SIGNS = np.where(_I6 < 3, -1.0, 1.0) * np.where(_J6 < 3, -1.0, 1.0)
 
 
 @dataclass(frozen=True)
 class PotentialFunctions:
-    """Named CasADi functions of one discretisation, with numpy wrappers.
+    """The total potential energy of one discretisation, assembled from CasADi element functions.
+
+    The element energies, gradients and Hessians come from two small named CasADi functions
+    (:func:`_element_functions`), evaluated for all elements at once (``Function.map``) and
+    scattered into the global vectors and the fixed sparsity pattern of the free degrees of freedom.
+    Ground springs and curve pins are quadratic and added directly.
 
     Attributes
     ----------
-    potential : casadi.Function
-        Inputs :data:`POTENTIAL_INPUTS`, output ``energy`` [J].
-    residual : casadi.Function
-        Same inputs, output ``gradient`` ∂Π/∂x (out-of-balance force, sign: internal minus external). [N]
-    stiffness : casadi.Function
-        Same inputs, outputs ``hessian_nonzeros`` (the nonzeros, in CSC order of ``solver.pattern``,
-        of the tangent stiffness on the free degrees of freedom) [N/m] and ``gradient`` (on the free
-        degrees of freedom) [N].
+    discretisation : Discretisation
+        Topology.
     free_dofs : ndarray of int
         Degrees of freedom that move in equilibrium (not supports, anchors or pivots).
     solver : BandedSolver
-        Ordering and factorisation of the tangent stiffness pattern.
+        Ordering and factorisation of the tangent-stiffness pattern (free DOFs, CSC).
     """
 
     discretisation: Discretisation
-    potential: ca.Function
-    residual: ca.Function
-    stiffness: ca.Function
     free_dofs: np.ndarray
     solver: BandedSolver
+    _axial: ca.Function
+    _bending: ca.Function | None
+    _axial_dofs: np.ndarray  # (6, n_axial)
+    _bending_dofs: np.ndarray  # (9, n_bending)
+    _hessian_slots: np.ndarray  # data index of every axial-Hessian entry, -1 if it touches a fixed DOF
+    _bending_slots: np.ndarray  # the same for the bending-Hessian entries
+    _bending_rows: np.ndarray
+    _bending_cols: np.ndarray
+    _hessian_size: int
+
+    def _element_terms(self, x: np.ndarray, params: PhysicalParameters):
+        """Energies, gradients (6 per element) and Hessian entries (36 per element, in the order of
+        ``_hessian_slots``) of the axial elements (one mapped CasADi call)."""
+        chord = x[self._axial_dofs[3:]] - x[self._axial_dofs[:3]]
+        energy, grad, hess = (np.asarray(v) for v in self._axial(
+            chord, params.axial_stiffness[None, :], params.unstretched_length[None, :], params.slack_allowed[None, :]))
+        grad6 = np.vstack([-grad, grad])
+        hess6 = _AXIAL_SIGNS[:, None] * hess[_AXIAL_ENTRY]
+        return energy.ravel(), grad6.ravel(), hess6.ravel()
+
+    def _bending_terms(self, params: PhysicalParameters) -> tuple[sp.csr_matrix, np.ndarray]:
+        """The bending energy is quadratic: its (constant) Hessian on all DOFs and its entries in
+        the free-DOF pattern, computed once per set of EI values."""
+        cache = self.__dict__.setdefault("_bending_cache", {})
+        key = params.bending_stiffness.tobytes()
+        if key not in cache:
+            b = self.discretisation.bending
+            hess = np.asarray(self._bending(
+                np.zeros(self._bending_dofs.shape), params.bending_stiffness[None, :], b.spacing_ab[None, :],
+                b.spacing_bc[None, :])[2]).ravel()
+            n = self.discretisation.n_dofs
+            matrix = sp.csr_matrix((hess, (self._bending_rows, self._bending_cols)), shape=(n, n))
+            keep = self._bending_slots >= 0
+            data = np.bincount(self._bending_slots[keep], weights=hess[keep], minlength=self._hessian_size)
+            cache.clear()
+            cache[key] = (matrix, data)
+        return cache[key]
+
+    def _extra_gradient(self, x: np.ndarray, params: PhysicalParameters) -> np.ndarray:
+        disc = self.discretisation
+        g = -params.nodal_force.copy()
+        if len(disc.spring_dofs):
+            np.add.at(g, disc.spring_dofs, params.spring_stiffness * (x[disc.spring_dofs] - params.spring_reference))
+        if len(disc.pin_nodes):
+            offset = x.reshape(-1, 3)[disc.pin_nodes] - disc.design_positions[disc.pin_nodes]
+            across = PIN_STIFFNESS * np.sum(offset * disc.pin_normals, axis=1)
+            for c in range(3):
+                np.add.at(g, 3 * disc.pin_nodes + c, across * disc.pin_normals[:, c])
+        return g
 
     def gradient(self, x: np.ndarray, params: PhysicalParameters) -> np.ndarray:
-        """∂Π/∂x at coordinates ``x``. [N]"""
-        return np.asarray(self.residual(x, *params.as_args())).ravel()
+        """∂Π/∂x at coordinates ``x`` (out-of-balance force, internal minus external). [N]"""
+        g = self._extra_gradient(x, params)
+        _, grad, _ = self._element_terms(x, params)
+        g += np.bincount(self._axial_dofs.ravel(), weights=grad, minlength=len(g))
+        if self._bending is not None:
+            g += self._bending_terms(params)[0] @ x
+        return g
 
     def hessian_values(self, x: np.ndarray, params: PhysicalParameters) -> tuple[np.ndarray, np.ndarray]:
-        """Nonzeros of the free-DOF tangent stiffness and the free-DOF gradient at ``x``. [N/m], [N]"""
-        values, grad = self.stiffness(x, *params.as_args())
-        return np.asarray(values).ravel(), np.asarray(grad).ravel()
+        """Nonzeros of the free-DOF tangent stiffness (CSC order of ``solver.pattern``) and the
+        free-DOF gradient at ``x``. [N/m], [N]"""
+        disc = self.discretisation
+        g = self._extra_gradient(x, params)
+        _, grad, hess = self._element_terms(x, params)
+        g += np.bincount(self._axial_dofs.ravel(), weights=grad, minlength=len(g))
+        keep = self._hessian_slots >= 0
+        values = np.bincount(self._hessian_slots[keep], weights=hess[keep], minlength=self._hessian_size)
+        if self._bending is not None:
+            matrix, data = self._bending_terms(params)
+            g += matrix @ x
+            values += data
+        diagonal = np.zeros(disc.n_dofs)
+        if len(disc.spring_dofs):
+            np.add.at(diagonal, disc.spring_dofs, params.spring_stiffness)
+        values += self._extra_diagonal(diagonal)
+        return values, g[self.free_dofs]
+
+    def _extra_diagonal(self, diagonal: np.ndarray) -> np.ndarray:
+        """Ground springs (diagonal) and curve pins (3×3 blocks) in the pattern's data order."""
+        slots = self.__dict__["_extra_slots"]
+        disc = self.discretisation
+        weights = [diagonal[slots["spring_dofs"]]] if len(slots["spring_dofs"]) else []
+        if len(disc.pin_nodes):
+            weights.append(slots["pin_values"])
+        if not weights:
+            return 0.0
+        return np.bincount(np.concatenate(slots["indices"]), weights=np.concatenate(weights), minlength=self._hessian_size)
 
     def hessian(self, x: np.ndarray, params: PhysicalParameters) -> tuple[sp.csc_matrix, np.ndarray]:
         """Tangent stiffness (sparse) and gradient on the free degrees of freedom at ``x``. [N/m], [N]"""
@@ -159,39 +261,87 @@ class PotentialFunctions:
 
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
         """Total potential energy. [J]"""
-        return float(self.potential(x, *params.as_args()))
+        disc = self.discretisation
+        total = -float(params.nodal_force @ x) + float(self._element_terms(x, params)[0].sum())
+        if self._bending is not None:
+            total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
+        if len(disc.spring_dofs):
+            total += float(0.5 * np.sum(params.spring_stiffness * (x[disc.spring_dofs] - params.spring_reference) ** 2))
+        if len(disc.pin_nodes):
+            offset = x.reshape(-1, 3)[disc.pin_nodes] - disc.design_positions[disc.pin_nodes]
+            total += float(0.5 * PIN_STIFFNESS * np.sum(np.sum(offset * disc.pin_normals, axis=1) ** 2))
+        return total
 
 
 def build_potential(disc: Discretisation) -> PotentialFunctions:
-    """Build the potential-energy functions of a discretisation (once per topology)."""
-    n_ax = len(disc.axial)
-    syms = [
-        ca.SX.sym("x", disc.n_dofs),
-        ca.SX.sym("axial_stiffness", n_ax),
-        ca.SX.sym("unstretched_length", n_ax),
-        ca.SX.sym("slack_allowed", n_ax),
-        ca.SX.sym("bending_stiffness", len(disc.bending.node_a)),
-        ca.SX.sym("spring_stiffness", len(disc.spring_dofs)),
-        ca.SX.sym("spring_reference", len(disc.spring_dofs)),
-        ca.SX.sym("nodal_force", disc.n_dofs),
-    ]
-    energy = _potential_expression(disc, *syms)
-    hess, grad = ca.hessian(energy, syms[0])
+    """Map the element functions over a discretisation and fix its tangent-stiffness pattern."""
+    ax, b = disc.axial, disc.bending
+    axial_dofs = np.vstack([3 * ax.node_a + c for c in range(3)] + [3 * ax.node_b + c for c in range(3)])
+    bending_dofs = np.vstack([3 * n + c for n in (b.node_a, b.node_b, b.node_c) for c in range(3)])
     free = np.flatnonzero(~disc.fixed_dofs)
-    hess = hess[free.tolist(), free.tolist()]
-    sparsity = hess.sparsity()
+    position = np.full(disc.n_dofs, -1)
+    position[free] = np.arange(len(free))
+
+    rows, cols = [], []
+    for dofs in (axial_dofs, bending_dofs) if len(b.node_a) else (axial_dofs,):
+        m = dofs.shape[0]
+        # ca.vec of an m×m Hessian is column-major: entry (i, j) at j·m + i; mapped outputs are
+        # (entries × elements), flattened entry after entry
+        i_idx = np.tile(np.arange(m), m)
+        j_idx = np.repeat(np.arange(m), m)
+        rows.append(dofs[i_idx, :].ravel())
+        cols.append(dofs[j_idx, :].ravel())
+    extra_rows, extra_cols = [disc.spring_dofs], [disc.spring_dofs]
+    pin_values = []
+    for node, normal in zip(disc.pin_nodes, disc.pin_normals):
+        block = PIN_STIFFNESS * np.outer(normal, normal)
+        for i in range(3):
+            for j in range(3):
+                extra_rows.append(np.array([3 * node + i]))
+                extra_cols.append(np.array([3 * node + j]))
+                pin_values.append(block[i, j])
+    all_rows = np.concatenate(rows + extra_rows).astype(int)
+    all_cols = np.concatenate(cols + extra_cols).astype(int)
+    r, c = position[all_rows], position[all_cols]
+    inside = (r >= 0) & (c >= 0)
+    n_free = len(free)
+    keys = np.where(inside, c.astype(np.int64) * n_free + r, -1)
+    unique, inverse = np.unique(keys[inside], return_inverse=True)
+    slots = np.full(len(keys), -1)
+    slots[inside] = inverse
+    pattern_cols = unique // n_free
     pattern = sp.csc_matrix(
-        (np.ones(sparsity.nnz()), np.asarray(sparsity.row()), np.asarray(sparsity.colind())), shape=hess.shape
+        (np.ones(len(unique)), (unique % n_free, pattern_cols)), shape=(n_free, n_free)
     )
-    names = list(POTENTIAL_INPUTS)
-    return PotentialFunctions(
+    pattern.sort_indices()
+    n_axial_entries = len(rows[0])
+    n_element_entries = sum(len(v) for v in rows)
+    extra_slots = slots[n_element_entries:]
+    n_spring = len(disc.spring_dofs)
+    spring_slots = extra_slots[:n_spring]
+    pin_slots = extra_slots[n_spring:]
+    spring_keep = spring_slots >= 0
+    pin_keep = pin_slots >= 0
+    functions = PotentialFunctions(
         disc,
-        ca.Function("potential", syms, [energy], names, ["energy"]),
-        ca.Function("residual", syms, [grad], names, ["gradient"]),
-        ca.Function("stiffness", syms, [hess.nz[:], grad[free.tolist()]], names, ["hessian_nonzeros", "gradient"]),
         free,
         BandedSolver.for_pattern(pattern),
+        _AXIAL.map(len(ax)),
+        _BENDING.map(len(b.node_a)) if len(b.node_a) else None,
+        axial_dofs,
+        bending_dofs,
+        slots[:n_axial_entries],
+        slots[n_axial_entries:n_element_entries],
+        rows[1] if len(rows) > 1 else np.zeros(0, dtype=int),
+        cols[1] if len(cols) > 1 else np.zeros(0, dtype=int),
+        len(unique),
     )
+    functions.__dict__["_extra_slots"] = {
+        "spring_dofs": disc.spring_dofs[spring_keep],
+        "pin_values": np.asarray(pin_values)[pin_keep] if len(pin_values) else np.zeros(0),
+        "indices": [spring_slots[spring_keep], pin_slots[pin_keep]],
+    }
+    return functions
 
 
 @dataclass(frozen=True, kw_only=True)
