@@ -15,6 +15,8 @@ loader helpers as the catenary and pantograph files: the ranges are those of
 
 from __future__ import annotations
 
+import functools
+
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,7 +27,13 @@ from presag_opt.dynamics.simulate import Operation, RunPlan, SimulationResult, S
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.system.catenary import Catenary, Provenance
-from presag_opt.system.loader import load_catenary, parse_quantity, parse_section, read_toml, resolve_model_path
+from presag_opt.system.loader import (
+    load_catenary,
+    load_model_file,
+    parse_quantity,
+    parse_section,
+    resolve_model_path,
+)
 from presag_opt.system.quantity import check_value
 
 CASE_SECTIONS = ("case", "operation", "analysis")
@@ -127,11 +135,7 @@ def load_case(name_or_path: str | Path) -> SimulationCase:
         pantograph files it names; the message starts with the file name.
     """
     path = resolve_model_path(name_or_path, "cases")
-    data = read_toml(path)
-    try:
-        return case_from_dict(data, base=path.parent)
-    except ModelError as exc:
-        raise ModelError(f"{path.name}: {exc}") from None
+    return load_model_file(path, "cases", functools.partial(case_from_dict, base=path.parent))
 
 
 def case_from_dict(data: Mapping[str, Any], base: Path | None = None) -> SimulationCase:

@@ -103,6 +103,13 @@ class BendingTriples:
     spacing_bc: np.ndarray  # [m]
     bending_stiffness: np.ndarray  # [N m^2]
 
+    @classmethod
+    def empty(cls) -> "BendingTriples":
+        """No bending (pure cables)."""
+        none_i, none_f = np.zeros(0, dtype=int), np.zeros(0)
+        return cls(node_a=none_i, node_b=none_i, node_c=none_i, spacing_ab=none_f, spacing_bc=none_f,
+                   bending_stiffness=none_f)
+
 
 @dataclass(frozen=True, kw_only=True)
 class Discretisation:
@@ -450,9 +457,7 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
             bending_stiffness=np.concatenate(bend["ei"]),
         )
     else:
-        empty_i, empty_f = np.zeros(0, dtype=int), np.zeros(0)
-        bending = BendingTriples(node_a=empty_i, node_b=empty_i, node_c=empty_i, spacing_ab=empty_f,
-                                 spacing_bc=empty_f, bending_stiffness=empty_f)
+        bending = BendingTriples.empty()
     return Discretisation(
         catenary=cat,
         cw_tension=cat.contact_wire.tension,
@@ -519,7 +524,6 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
     termination[3 * n] = wire.tension
     nodes = np.arange(n + 1)
     empty = np.zeros(0, dtype=int)
-    has_bending = wire.bending_stiffness > 0.0
     return Discretisation(
         catenary=None,
         cw_tension=wire.tension,
@@ -538,13 +542,9 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
             design_length=h, group=np.full(n, CONTACT_WIRE),
         ),
         bending=BendingTriples(
-            node_a=nodes[:-2] if has_bending else empty,
-            node_b=nodes[1:-1] if has_bending else empty,
-            node_c=nodes[2:] if has_bending else empty,
-            spacing_ab=h[:-1] if has_bending else np.zeros(0),
-            spacing_bc=h[1:] if has_bending else np.zeros(0),
-            bending_stiffness=np.full(n - 1, wire.bending_stiffness) if has_bending else np.zeros(0),
-        ),
+            node_a=nodes[:-2], node_b=nodes[1:-1], node_c=nodes[2:], spacing_ab=h[:-1], spacing_bc=h[1:],
+            bending_stiffness=np.full(n - 1, wire.bending_stiffness),
+        ) if wire.bending_stiffness > 0.0 else BendingTriples.empty(),
         dropper_elements=empty,
         dropper_span=empty,
         dropper_position=np.zeros(0),
