@@ -448,7 +448,7 @@ def integrate(
     settings = settings or IntegratorSettings()
     system = _build_system(mass, damping, stiffness, external_force, nonlinear_force, settings)
     n = system.mass.shape[0]
-    n_steps = _step_count(duration, settings.time_step)
+    n_steps = step_count(duration, settings.time_step)
     solver = _FactorisedSolver(system) if settings.method == "fast" else _ReferenceSolver(system)
     u, v, a, internal = _initial_state(system, initial_state, n)
     dofs = np.arange(n) if record_dofs is None else np.asarray(record_dofs, dtype=int)
@@ -491,7 +491,8 @@ def _build_system(
     )
 
 
-def _step_count(duration: float, time_step: float) -> int:
+def step_count(duration: float, time_step: float) -> int:
+    """Number of time steps that cover ``duration`` [s] at ``time_step`` [s] (rounded up). [-]"""
     if not duration > 0.0:
         raise ModelError(f"duration = {duration!r} s must be positive")
     return int(np.ceil(duration / time_step - 1e-9))

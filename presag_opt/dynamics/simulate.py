@@ -56,7 +56,7 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics.integrator import NO_FORCE, IntegratorSettings, NonlinearForce, State, integrate
+from presag_opt.dynamics.integrator import NO_FORCE, IntegratorSettings, NonlinearForce, State, integrate, step_count
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics, lowpass_filter
 from presag_opt.dynamics.structure import StructuralModel, StructureSettings, structural_model
@@ -338,6 +338,67 @@ def _contact_path(state: EquilibriumState, stations: np.ndarray) -> tuple[np.nda
     return shape.indices.reshape(-1, 2), shape.data.reshape(-1, 2), disc.cw_element_compliance(stations)
 
 
+@dataclass(frozen=True)
+class ContactPath:
+    """Where one pantograph touches the wire at every record time, and its head height at rest.
+
+    Attributes
+    ----------
+    nodes : ndarray of int, shape (n_times, 2)
+        Contact-wire nodes of the element under the head.
+    weights : ndarray, shape (n_times, 2)
+        Linear shape functions of the contact point. [-]
+    compliance : ndarray, shape (n_times,)
+        Point-load compliance of the element at the contact point. [m/N]
+    head_height : float
+        Height of the head at rest, pressed into the wire by the uplift force. [m]
+    """
+
+    nodes: np.ndarray
+    weights: np.ndarray
+    compliance: np.ndarray
+    head_height: float
+
+
+def static_contact(
+    state: EquilibriumState, model: StructuralModel, plan: RunPlan, times: np.ndarray
+) -> tuple[np.ndarray, list[ContactPath]]:
+    """The run's start: the catenary pressed by the pantographs at rest, and each contact path.
+
+    The wire's static response to the uplift forces at the start stations (droppers tension-only)
+    and, per pantograph, the contact element at every record time and the head height that makes
+    the contact force equal the uplift force at t = 0.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The form-found catenary.
+    model : StructuralModel
+        Its structural model.
+    plan : RunPlan
+        The run.
+    times : ndarray
+        Record times. [s]
+
+    Returns
+    -------
+    u0 : ndarray
+        Catenary displacements at t = 0 from the equilibrium. [m]
+    paths : list of ContactPath
+        One per pantograph, front to rear.
+    """
+    uplift = plan.operation.uplift_force
+    disc = state.discretisation
+    load = sum(disc.cw_load_vector(x, uplift) for x in plan.starts)[model.global_dofs]
+    u0 = model.static_response(load)
+    paths = []
+    for p, x in zip(plan.pantographs, plan.starts):
+        nodes, weights, compliance = _contact_path(state, x + plan.operation.speed * times)
+        wire = weights[0] @ (model.cw_height[nodes[0]] + u0[model.cw_z[nodes[0]]]) + compliance[0] * uplift
+        paths.append(ContactPath(nodes, weights, compliance, float(wire + uplift / p.contact.stiffness)))
+    return u0, paths
+
+
 class _Interaction:
     """Contact, friction and dropper forces of the coupled system (the integrator's callbacks)."""
 
@@ -461,6 +522,16 @@ class RunPlan:
     analysed_section: tuple[float, float]
     starts: np.ndarray
     duration: float
+
+    def step_count(self, time_step: float) -> int:
+        """Number of time steps of the run (its duration rounded up to whole steps). [-]
+
+        Parameters
+        ----------
+        time_step : float
+            [s]
+        """
+        return step_count(self.duration, time_step)
 
     def window(self, pantograph: int) -> tuple[float, float]:
         """Times the given pantograph (from 0, front to rear) is in the analysed section. [s]"""
@@ -603,26 +674,22 @@ def simulate(
     damping = sp.block_diag([model.damping] + [p.damping_matrix() for p in pantographs], format="csr")
     stiffness = sp.block_diag([model.stiffness] + [p.stiffness_matrix() for p in pantographs], format="csr")
 
+    dt = settings.integrator.time_step
+    times = dt * np.arange(plan.step_count(dt) + 1)  # the integrator's record times
+    u0_catenary, paths = static_contact(state, model, plan, times)
+    u0 = np.zeros(n)
+    u0[:n_c] = u0_catenary
+    couplings = [
+        _Coupling(p, dof + np.arange(p.n_dofs), float(x), path.head_height, path.nodes, path.weights, path.compliance)
+        for p, dof, x, path in zip(pantographs, first_dof, plan.starts, paths)
+    ]
     uplift = operation.uplift_force
     disc = state.discretisation
-    load = sum(disc.cw_load_vector(x, uplift) for x in plan.starts)[model.global_dofs]
-    u0 = np.zeros(n)
-    u0[:n_c] = model.static_response(load)
-    dt = settings.integrator.time_step
-    times = dt * np.arange(int(np.ceil(plan.duration / dt - 1e-9)) + 1)  # the integrator's record times
-    couplings = []
-    for p, dof, x in zip(pantographs, first_dof, plan.starts):
-        nodes, weights, compliance = _contact_path(state, x + operation.speed * times)
-        wire = weights[0] @ (model.cw_height[nodes[0]] + u0[model.cw_z[nodes[0]]]) + compliance[0] * uplift
-        couplings.append(
-            _Coupling(p, dof + np.arange(p.n_dofs), float(x), wire + uplift / p.contact.stiffness, nodes, weights,
-                      compliance)
-        )
     interaction = _Interaction(model, couplings, dt, settings.friction)
     external = np.zeros(n)
     external[[c.dofs[0] for c in couplings]] = uplift
 
-    recorded = _recorded_droppers(model, plan.analysed_section, settings)
+    recorded = recorded_droppers(model, plan.analysed_section, settings)
     result = integrate(
         mass,
         damping,
@@ -687,7 +754,7 @@ def simulate(
     )
 
 
-def _recorded_droppers(
+def recorded_droppers(
     model: StructuralModel, section: tuple[float, float], settings: SimulationSettings
 ) -> np.ndarray:
     if settings.droppers == "all":
