@@ -14,7 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from presag_opt.elasticity import ElasticityStudy  # noqa: E402
 
 if TYPE_CHECKING:
-    from presag_opt.presag import Recommendation, SingleCurveError
+    from presag_opt.design import Recommendation
+    from presag_opt.validation import SingleCurveError
 
 
 def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
@@ -54,7 +55,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     Parameters
     ----------
     recommendation : Recommendation
-        Result of :func:`presag_opt.presag.recommend`.
+        Result of :func:`presag_opt.design.recommend`.
     path : str or Path
         Output file; the suffix selects the format (png, pdf, svg).
 
