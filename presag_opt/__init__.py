@@ -57,7 +57,7 @@ _API = {
         "EN50318_RANGES", "PAPER_RECOMMENDATION", "PAPER_SINGLE_CURVE_ERROR", "PAPER_TABLE1",
         "PAPER_TABLE1_SPAN_LENGTH", "PAPER_TABLE1_STATIC_FORCE", "PAPER_TABLE2_FORCE", "PAPER_TABLE2_MM",
         "PAPER_TABLE2_MODELS", "SINGLE_CURVE_MAX_FORCE", "SINGLE_CURVE_MODEL", "ComparisonRow",
-        "PaperComparison", "SingleCurveError", "Table2Row", "Verdict", "compare_with_paper",
+        "PaperComparison", "SingleCurveError", "Table2Row", "Verdict", "compare_with_paper", "en50318_ranges",
         "comparison_rows", "en50318_verdicts", "single_curve_error", "table2_row",
     ),
 }

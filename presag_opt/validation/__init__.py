@@ -15,7 +15,7 @@ from presag_opt.validation.comparison import (
     comparison_rows,
     table2_row,
 )
-from presag_opt.validation.en50318 import EN50318_RANGES, Verdict, en50318_verdicts
+from presag_opt.validation.en50318 import EN50318_RANGES, Verdict, en50318_ranges, en50318_verdicts
 from presag_opt.validation.paper import (
     PAPER_RECOMMENDATION,
     PAPER_SINGLE_CURVE_ERROR,
@@ -49,6 +49,7 @@ __all__ = [
     "Verdict",
     "compare_with_paper",
     "comparison_rows",
+    "en50318_ranges",
     "en50318_verdicts",
     "single_curve_error",
     "table2_row",

@@ -54,6 +54,33 @@ class Verdict:
         return self.low <= self.value <= self.high
 
 
+def en50318_ranges(speed_kmh: float) -> dict[str, tuple[float, float]]:
+    """The published ranges at one speed.
+
+    Parameters
+    ----------
+    speed_kmh : float
+        Train speed; must be one of the published speeds, 250 or 300. [km/h]
+
+    Returns
+    -------
+    dict
+        Statistic key -> (low, high), as in :data:`EN50318_RANGES`. [N, mm, %]
+
+    Raises
+    ------
+    ModelError
+        If the speed has no published ranges.
+    """
+    ranges = EN50318_RANGES.get(round(speed_kmh))
+    if ranges is None or abs(speed_kmh - round(speed_kmh)) > 1e-6:
+        raise ModelError(
+            f"speed = {speed_kmh:g} km/h has no EN 50318 reference ranges; give one of "
+            f"{', '.join(str(v) for v in EN50318_RANGES)} km/h"
+        )
+    return ranges
+
+
 def en50318_verdicts(speed_kmh: float, statistics: Mapping[str, float]) -> tuple[Verdict, ...]:
     """A verdict for every published statistic of a run of the EN 50318 reference case.
 
@@ -75,13 +102,7 @@ def en50318_verdicts(speed_kmh: float, statistics: Mapping[str, float]) -> tuple
     ModelError
         If the speed has no published ranges.
     """
-    ranges = EN50318_RANGES.get(round(speed_kmh))
-    if ranges is None or abs(speed_kmh - round(speed_kmh)) > 1e-6:
-        raise ModelError(
-            f"speed = {speed_kmh:g} km/h has no EN 50318 reference ranges; give one of "
-            f"{', '.join(str(v) for v in EN50318_RANGES)} km/h"
-        )
     return tuple(
         Verdict(statistic=key, value=float(statistics[key]), low=float(low), high=float(high))
-        for key, (low, high) in ranges.items()
+        for key, (low, high) in en50318_ranges(speed_kmh).items()
     )

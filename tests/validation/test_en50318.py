@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from presag_opt.errors import ModelError
-from presag_opt.validation import EN50318_RANGES, en50318_verdicts
+from presag_opt.validation import EN50318_RANGES, en50318_ranges, en50318_verdicts
 
 
 def test_every_published_statistic_gets_a_verdict_in_order():
@@ -32,3 +32,7 @@ def test_the_speed_of_a_run_in_km_h_from_m_s_is_accepted():
 def test_a_speed_without_published_ranges_is_an_error(speed):
     with pytest.raises(ModelError, match=r"no EN 50318 reference ranges; give one of 250, 300 km/h"):
         en50318_verdicts(speed, {})
+
+
+def test_the_ranges_of_a_speed_are_the_published_ones():
+    assert en50318_ranges(300.0) is EN50318_RANGES[300]
