@@ -75,7 +75,8 @@ def en50318_command(args: argparse.Namespace) -> int:
         print(f"\n{speed:g} km/h (β = {stats['beta']:.3f}):")
         print(table(
             ["statistic", "value", "published range", "verdict"],
-            [(v.statistic, v.value, f"{v.low:g} – {v.high:g}", "inside" if v.inside else "OUTSIDE") for v in verdicts],
+            [(v.statistic, v.value, f"{v.low:g} – {v.high:g}", "inside" if v.inside else "OUTSIDE")
+             for v in verdicts],
             ["{}", "{:.1f}", "{}", "{}"],
         ))
     return 0

@@ -7,7 +7,8 @@ steady-arm uplift estimate against the case study's limit. The wave-speed formul
 References
 ----------
 Schick, Liu, Stichel, "Validity range of a quasi-static method for adjusting the pre-sag of simple
-railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016: sections 5.2 and 6 (validity β ≤ 0.4, steady-arm uplift limit 83.5 mm).
+railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016: sections 5.2 and 6
+(validity β ≤ 0.4, steady-arm uplift limit 83.5 mm).
 """
 
 from __future__ import annotations

@@ -16,23 +16,12 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+import presag_opt.validation.paper as published
 from presag_opt.design.empirical import EmpiricalPresag
 from presag_opt.design.recommendation import Recommendation
 from presag_opt.design.section import SectionElasticity, section_elasticity, tension_label
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.loader import load_catenary
-from presag_opt.validation.paper import (
-    PAPER_RECOMMENDATION,
-    PAPER_SINGLE_CURVE_ERROR,
-    PAPER_TABLE1,
-    PAPER_TABLE1_SPAN_LENGTH,
-    PAPER_TABLE1_STATIC_FORCE,
-    PAPER_TABLE2_FORCE,
-    PAPER_TABLE2_MM,
-    PAPER_TABLE2_MODELS,
-    SINGLE_CURVE_MAX_FORCE,
-    SINGLE_CURVE_MODEL,
-)
 from presag_opt.validation.single_curve import SingleCurveError, single_curve_error
 
 
@@ -59,7 +48,7 @@ class Table2Row:
     presag_delta_e: float
 
 
-def table2_row(section: SectionElasticity, mean_force: float = PAPER_TABLE2_FORCE) -> Table2Row:
+def table2_row(section: SectionElasticity, mean_force: float = published.PAPER_TABLE2_FORCE) -> Table2Row:
     """Table 2 values of a section: S by both variants at ``mean_force`` (first analysed span).
 
     References
@@ -154,11 +143,11 @@ def comparison_rows(
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Tables 1–2, Fig. 5b, section 5.2.
     """
     rows = []
-    for label, paper in PAPER_TABLE1.items():
+    for label, paper in published.PAPER_TABLE1.items():
         cw, mw = (float(t) * 1e3 for t in label.split("/"))
         ours = EmpiricalPresag(
-            span_length=PAPER_TABLE1_SPAN_LENGTH, contact_wire_tension=cw, messenger_wire_tension=mw,
-            static_force=PAPER_TABLE1_STATIC_FORCE,
+            span_length=published.PAPER_TABLE1_SPAN_LENGTH, contact_wire_tension=cw, messenger_wire_tension=mw,
+            static_force=published.PAPER_TABLE1_STATIC_FORCE,
         ).printed()
         rows.append(ComparisonRow(
             item=f"Table 1 {label} e_mid", unit="mm/N", ours=ours["e_mid_mm_per_N"], paper=paper["e_mid_mm_per_N"],
@@ -172,7 +161,7 @@ def comparison_rows(
                 ours=ours["presag_rel_permille"][i], paper=paper["presag_rel_permille"][i],
             ))
     for row in table2_rows:
-        paper = PAPER_TABLE2_MM.get(row.tension_label)
+        paper = published.PAPER_TABLE2_MM.get(row.tension_label)
         if paper is None:
             continue
         rows.append(ComparisonRow(
@@ -185,10 +174,11 @@ def comparison_rows(
         rec = recommendation
         for end, i in (("low", 0), ("high", 1)):
             rows.append(ComparisonRow(
-                item=f"F_m band {end}", unit="N", ours=rec.mean_force_band[i], paper=PAPER_RECOMMENDATION["fm_band_N"][i],
+                item=f"F_m band {end}", unit="N", ours=rec.mean_force_band[i],
+                paper=published.PAPER_RECOMMENDATION["fm_band_N"][i],
             ))
         for lay in rec.layouts:
-            paper = PAPER_RECOMMENDATION["presag_rel_range_permille"][lay.layout_kind]
+            paper = published.PAPER_RECOMMENDATION["presag_rel_range_permille"][lay.layout_kind]
             for end, i in (("low", 0), ("high", 1)):
                 rows.append(ComparisonRow(
                     item=f"S_rel {lay.layout_kind} {end} ({rec.method})", unit="‰",
@@ -196,22 +186,26 @@ def comparison_rows(
                 ))
         rows.append(ComparisonRow(
             item=f"S_rel recommended ({rec.method})", unit="‰", ours=rec.presag_rel * 1e3,
-            paper=PAPER_RECOMMENDATION["presag_rel_permille"],
+            paper=published.PAPER_RECOMMENDATION["presag_rel_permille"],
         ))
         rows.append(ComparisonRow(
             item=f"S recommended on {rec.nominal_span_length:g} m", unit="mm", ours=rec.presag * 1e3,
-            paper=PAPER_RECOMMENDATION["presag_mm"],
+            paper=published.PAPER_RECOMMENDATION["presag_mm"],
         ))
-        rows.append(ComparisonRow(item="beta_max", unit="-", ours=rec.beta_max, paper=PAPER_RECOMMENDATION["beta_max"]))
+        rows.append(ComparisonRow(
+            item="beta_max", unit="-", ours=rec.beta_max, paper=published.PAPER_RECOMMENDATION["beta_max"],
+        ))
     for study in single_curve_errors:
         paper = next(
-            (v for s, v in PAPER_SINGLE_CURVE_ERROR.items() if math.isclose(s, study.geometry_presag, abs_tol=5e-4)), None
+            (v for s, v in published.PAPER_SINGLE_CURVE_ERROR.items()
+             if math.isclose(s, study.geometry_presag, abs_tol=5e-4)),
+            None,
         )
         if paper is None:
             continue
         rows.append(ComparisonRow(
-            item=f"Fig. 5b error at {SINGLE_CURVE_MAX_FORCE:g} N, {study.geometry_presag * 1e3:.0f} mm geometry",
-            unit="%", ours=study.error_at(SINGLE_CURVE_MAX_FORCE) * 100, paper=paper * 100,
+            item=f"Fig. 5b error at {published.SINGLE_CURVE_MAX_FORCE:g} N, {study.geometry_presag * 1e3:.0f} mm geometry",
+            unit="%", ours=study.error_at(published.SINGLE_CURVE_MAX_FORCE) * 100, paper=paper * 100,
         ))
     return tuple(rows)
 
@@ -250,16 +244,16 @@ def compare_with_paper(
     """
     kwargs = dict(step=step, elasticity_method=elasticity_method, settings=settings, progress=progress)
     fig5b_levels = (50.0, 100.0, 150.0, 200.0)
-    nominal = load_catenary(SINGLE_CURVE_MODEL)
+    nominal = load_catenary(published.SINGLE_CURVE_MODEL)
     span_length = nominal.layout.span_lengths[nominal.layout.central_span]
     fig5b = [
         section_elasticity(nominal.with_presag(presag / span_length), force_levels=fig5b_levels, **kwargs)
-        for presag in PAPER_SINGLE_CURVE_ERROR
+        for presag in published.PAPER_SINGLE_CURVE_ERROR
     ]
     table2_sections = [
-        fig5b[0] if name == SINGLE_CURVE_MODEL and math.isclose(nominal.presag_rel * span_length, 0.030)
+        fig5b[0] if name == published.SINGLE_CURVE_MODEL and math.isclose(nominal.presag_rel * span_length, 0.030)
         else section_elasticity(load_catenary(name), force_levels=(100.0, 150.0), **kwargs)
-        for name in PAPER_TABLE2_MODELS
+        for name in published.PAPER_TABLE2_MODELS
     ]
     table2 = tuple(table2_row(s) for s in table2_sections)
     errors = tuple(single_curve_error(s) for s in fig5b)
