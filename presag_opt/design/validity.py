@@ -91,7 +91,7 @@ def speed_context(
     """Wave speed, speed ratios, Doppler factor and validity of the quasi-static rule for a band.
 
     When the band crosses ``beta_limit`` or lies above it, the result's ``warnings`` say so
-    (:func:`recommend` passes them on as :class:`UserWarning`).
+    (:func:`~presag_opt.design.recommendation.recommend` passes them on as :class:`UserWarning`).
 
     Parameters
     ----------
