@@ -27,14 +27,8 @@ from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
+from presag_opt.validation import en50318_verdicts
 
-EN50318_RANGES = {
-    250: {"Fm_N": (110, 120), "sigma_N": (26, 31), "stat_max_N": (190, 210), "stat_min_N": (20, 40),
-          "max_N": (175, 210), "min_N": (50, 75), "uplift_max_mm": (48, 55), "loss_of_contact_pct": (0, 0)},
-    300: {"Fm_N": (110, 120), "sigma_N": (32, 40), "stat_max_N": (210, 230), "stat_min_N": (-5, 20),
-          "max_N": (190, 225), "min_N": (30, 55), "uplift_max_mm": (55, 65), "loss_of_contact_pct": (0, 0)},
-}
-"""EN 50318:2002 reference ranges as published in secondary sources (DESIGN.md 4.3)."""
 
 
 def timed(fn, repeat: int):
@@ -66,10 +60,10 @@ def en50318_table(case, settings, label: str) -> None:
     print(f"-- {label}")
     for speed in (250, 300):
         stats = case.run(speed / 3.6, state=state, settings=settings).to_dict()
-        cells = []
-        for key, (low, high) in EN50318_RANGES[speed].items():
-            mark = "" if low <= stats[key] <= high else " (out)"
-            cells.append(f"{key} {stats[key]:.1f} [{low:g}, {high:g}]{mark}")
+        cells = [
+            f"{v.statistic} {v.value:.1f} [{v.low:g}, {v.high:g}]" + ("" if v.inside else " (out)")
+            for v in en50318_verdicts(speed, stats)
+        ]
         print(f"{speed} km/h (β = {stats['beta']:.3f}, Doppler {stats['doppler_factor']:.3f}): " + "; ".join(cells))
 
 

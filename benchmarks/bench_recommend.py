@@ -24,7 +24,7 @@ TARGET_S = 10.0
 STAGES_SCRIPT = """
 import json, time
 start = time.perf_counter()
-from presag_opt.presag import recommend
+from presag_opt.design import recommend
 marks = [("import", time.perf_counter())]
 recommend(progress=lambda message: marks.append((message, time.perf_counter())))
 marks.append(("end", time.perf_counter()))

@@ -11,7 +11,7 @@ from __future__ import annotations
 import time
 
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.presag import CASE_STUDY_BAND
+from presag_opt.design import CASE_STUDY_BAND
 from presag_opt.robust import dynamic_check, robust_study
 from presag_opt.system.loader import load_catenary
 

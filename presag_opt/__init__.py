@@ -1,0 +1,81 @@
+"""presag_opt: pre-sag design for simple railway overhead contact lines.
+
+The public API by name, from every layer: system models (:mod:`presag_opt.system`), the static model
+(:mod:`presag_opt.static`), elasticity (:mod:`presag_opt.elasticity`), pre-sag design
+(:mod:`presag_opt.design`), robust design (:mod:`presag_opt.robust`) and validation against published
+results (:mod:`presag_opt.validation`); the dynamic simulation is used from :mod:`presag_opt.dynamics`.
+A name is imported from its module on first use, so that ``import presag_opt`` loads neither CasADi nor
+cvxpy nor the simulator (the command line relies on that to start quickly).
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+
+_API = {
+    "presag_opt.errors": (
+        "ConvergenceError", "ModelError",
+    ),
+    "presag_opt.speed": (
+        "doppler_factor", "speed_ratio", "wave_speed",
+    ),
+    "presag_opt.system.catenary": (
+        "Catenary", "Damping", "Droppers", "PinSupport", "Provenance", "SpanLayout", "SpringSupport",
+        "SteadyArm", "Wire",
+    ),
+    "presag_opt.system.loader": (
+        "builtin_model_names", "load_catenary",
+    ),
+    "presag_opt.static.discretisation": (
+        "StaticSettings",
+    ),
+    "presag_opt.static.equilibrium": (
+        "EquilibriumState", "dropper_height_sensitivity", "form_find",
+    ),
+    "presag_opt.static.linearised": (
+        "TensionOnlyStructure",
+    ),
+    "presag_opt.elasticity": (
+        "ElasticityCurve", "ElasticityStudy", "elasticity_study", "linear_elasticity", "nonlinear_elasticity",
+    ),
+    "presag_opt.design": (
+        "CASE_STUDY_BAND", "CASE_STUDY_MODELS", "CASE_STUDY_SPAN_LENGTH", "EMPIRICAL_K", "E_MAST_RATIOS",
+        "FORCE_LEVEL_SPACING", "KMH", "PRESAG_METHODS", "QUASI_STATIC_BETA_LIMIT", "STEADY_ARM_UPLIFT_LIMIT",
+        "EmpiricalPresag", "LayoutRecommendation", "OperatingBand", "Recommendation", "SectionElasticity",
+        "SectionPresag", "SpeedContext", "StaticSteadyArmUplift", "check_elasticity_method",
+        "check_levels_cover", "check_method", "default_spans", "elasticity_difference",
+        "force_levels_for_band", "interpolate_elasticity", "layout_kind", "layout_recommendation",
+        "mean_contact_force", "mean_force_grid", "mid_span_elasticity_empirical", "presag_quasi_static",
+        "recommend", "section_elasticity", "speed_context", "tension_label",
+    ),
+    "presag_opt.robust": (
+        "SHAPES", "Buildability", "DynamicCheck", "DynamicRun", "ForceScenarios", "PathModel", "Risk",
+        "RobustDesign", "RobustStudy", "ToleranceBand", "build_path_model", "dynamic_check",
+        "evaluate_design", "robust_presag", "robust_study", "tolerance_band",
+    ),
+    "presag_opt.validation": (
+        "EN50318_RANGES", "PAPER_RECOMMENDATION", "PAPER_SINGLE_CURVE_ERROR", "PAPER_TABLE1",
+        "PAPER_TABLE1_SPAN_LENGTH", "PAPER_TABLE1_STATIC_FORCE", "PAPER_TABLE2_FORCE", "PAPER_TABLE2_MM",
+        "PAPER_TABLE2_MODELS", "SINGLE_CURVE_MAX_FORCE", "SINGLE_CURVE_MODEL", "ComparisonRow",
+        "PaperComparison", "SingleCurveError", "Table2Row", "Verdict", "compare_with_paper", "en50318_ranges",
+        "comparison_rows", "en50318_verdicts", "single_curve_error", "table2_row",
+    ),
+}
+"""Public names by the module that defines or gathers them."""
+
+_MODULE_OF = {name: module for module, names in _API.items() for name in names}
+
+__all__ = sorted(_MODULE_OF)
+
+
+def __getattr__(name: str) -> object:
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module 'presag_opt' has no attribute {name!r}")
+    value = getattr(import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -28,8 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.linearised import TensionOnlyStructure
 
 DEFAULT_FORCES = (50.0, 100.0, 150.0, 200.0)
 """Force levels of the nonlinear elasticity curves. [N]"""
@@ -198,8 +199,8 @@ def nonlinear_elasticity(
         ``"newton"`` re-solves the full nonlinear equilibrium with the force at each position
         (Newton's method on the potential energy, each position starting from the previous one).
         ``"active-set"`` solves the structure linearised about the unloaded state with tension-only
-        droppers exactly (a dropper whose force would drop below zero is removed, Woodbury update of
-        one factorisation); it neglects only geometric nonlinearity and is meant for bulk studies.
+        droppers exactly (:class:`~presag_opt.static.linearised.TensionOnlyStructure`); it neglects
+        only geometric nonlinearity and is meant for bulk studies.
 
     Raises
     ------
@@ -217,7 +218,7 @@ def nonlinear_elasticity(
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
     if method == "active-set":
-        uplift, slack = _ActiveSetModel.of(state).uplift(stations, force)
+        uplift, slack = _active_set_uplift(state, stations, force)
     else:
         uplift, slack = _newton_uplift(state, stations, force)
     return ElasticityCurve(
@@ -246,93 +247,37 @@ def _newton_uplift(state: EquilibriumState, stations: np.ndarray, force: float) 
     return uplift, slack
 
 
-@dataclass(frozen=True)
-class _ActiveSetModel:
-    """The unloaded structure linearised, with its droppers as tension-only constraints.
+def _active_set_uplift(state: EquilibriumState, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
+    """Nodal-interpolated uplift [m] and slack-dropper count at each station under ``force``, on the
+    structure linearised with tension-only droppers (each station starts from the previous slack set)."""
+    structure = TensionOnlyStructure.of(state)
+    load_compliance, load_influence = _load_terms(structure, stations)
+    f0 = structure.preload
+    uplift = np.empty(len(stations))
+    slack_count = np.empty(len(stations), dtype=int)
+    slack = np.zeros(len(f0), dtype=bool)
+    for i, (c_pp, v_p) in enumerate(zip(load_compliance, load_influence)):
+        slack, z = structure.slack_set(force * v_p, slack)
+        s = np.flatnonzero(slack)
+        uplift[i] = force * c_pp + v_p[s] @ f0[s] + v_p[s] @ z
+        slack_count[i] = int(slack.sum())
+    return uplift, slack_count
 
-    With S the set of slack droppers, equilibrium under a load p is
-    (K − G_S D_S G_Sᵀ) q = p + G_S f0_S, where G holds the droppers' length gradients, D their
-    stiffnesses and f0 their preloads. One factorisation of K and W = K⁻¹ G serve every load
-    position through the Woodbury identity; S is found by the usual active-set iteration.
-    """
 
-    gradients: np.ndarray  # (n_free, m) length gradients of the droppers
-    influence: np.ndarray  # W = K^-1 G
-    gram: np.ndarray  # G^T K^-1 G
-    preload: np.ndarray  # [N]
-    stiffness: np.ndarray  # [N/m]
-    state: EquilibriumState
-
-    @classmethod
-    def of(cls, state: EquilibriumState) -> "_ActiveSetModel":
-        if "active_set" not in state._cache:
-            disc = state.discretisation
-            free = state.model.functions.free_dofs
-            drops = disc.dropper_elements
-            ax = disc.axial
-            d = state.positions[ax.node_b[drops]] - state.positions[ax.node_a[drops]]
-            d /= np.linalg.norm(d, axis=1)[:, None]
-            full = np.zeros((disc.n_dofs, len(drops)))
-            cols = np.arange(len(drops))
-            for c in range(3):
-                full[3 * ax.node_b[drops] + c, cols] = d[:, c]
-                full[3 * ax.node_a[drops] + c, cols] = -d[:, c]
-            gradients = full[free]
-            influence = state.factorised_stiffness().solve(gradients)
-            state._cache["active_set"] = cls(
-                gradients, influence, gradients.T @ influence, state.dropper_forces(),
-                state.params.axial_stiffness[drops], state,
-            )
-        return state._cache["active_set"]
-
-    def uplift(self, stations: np.ndarray, force: float) -> tuple[np.ndarray, np.ndarray]:
-        """Nodal-interpolated uplift [m] and slack-dropper count at each station under ``force``."""
-        load_compliance, load_influence = self._load_terms(stations)
-        uplift = np.empty(len(stations))
-        slack_count = np.empty(len(stations), dtype=int)
-        slack = np.zeros(len(self.preload), dtype=bool)
-        for i in range(len(stations)):
-            uplift[i], slack = self._solve(force, load_compliance[i], load_influence[i], slack)
-            slack_count[i] = int(slack.sum())
-        return uplift, slack_count
-
-    def _load_terms(self, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """PᵀK⁻¹P and PᵀW for a unit load at each station; kept per set of stations, since every
-        force level of a span uses the same ones."""
-        cache = self.state._cache.setdefault("active_set_loads", {})
-        key = np.asarray(stations, dtype=float).tobytes()
-        if key not in cache:
-            local, vertical = _vertical_load_shapes(self.state, stations)
-            compliance = vertical.T @ self.state.factorised_stiffness().solve(vertical)
-            cache[key] = (
-                np.einsum("pi,ij,pj->p", local, compliance, local),
-                local @ (vertical.T @ self.influence),
-            )
-        return cache[key]
-
-    def _solve(self, force: float, c_pp: float, v_p: np.ndarray, slack: np.ndarray) -> tuple[float, np.ndarray]:
-        """Uplift at the load point and the slack set, starting the iteration from ``slack``."""
-        f0, k, gram = self.preload, self.stiffness, self.gram
-        for _ in range(4 * len(f0) + 10):
-            s = np.flatnonzero(slack)
-            # q0 = K^-1 (F P + G_S f0_S); y = G_S^T q0
-            stretch0 = force * v_p + gram[:, s] @ f0[s]
-            if len(s):
-                y = stretch0[s]
-                z = np.linalg.solve(np.diag(1.0 / k[s]) - gram[np.ix_(s, s)], y)
-                stretch = stretch0 + gram[:, s] @ z
-                uplift = force * c_pp + v_p[s] @ f0[s] + v_p[s] @ z
-            else:
-                stretch, uplift = stretch0, force * c_pp
-            would_carry = f0 + k * stretch
-            new_slack = would_carry < 0.0
-            if np.array_equal(new_slack, slack):
-                return float(uplift), slack
-            slack = new_slack
-        raise ConvergenceError(
-            f"active-set elasticity: the set of slack droppers did not settle under {force:g} N",
-            {"slack_droppers": int(slack.sum())},
+def _load_terms(structure: TensionOnlyStructure, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """PᵀK⁻¹P and PᵀW for a unit load at each station; kept per set of stations, since every force
+    level of a span uses the same ones."""
+    state = structure.state
+    cache = state._cache.setdefault("active_set_loads", {})
+    key = np.asarray(stations, dtype=float).tobytes()
+    if key not in cache:
+        local, vertical = _vertical_load_shapes(state, stations)
+        compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
+        cache[key] = (
+            np.einsum("pi,ij,pj->p", local, compliance, local),
+            local @ (vertical.T @ structure.influence),
         )
+    return cache[key]
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -14,7 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from presag_opt.elasticity import ElasticityStudy  # noqa: E402
 
 if TYPE_CHECKING:
-    from presag_opt.presag import Recommendation, SingleCurveError
+    from presag_opt.design import Recommendation
+    from presag_opt.validation import SingleCurveError
 
 
 def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
@@ -37,11 +38,7 @@ def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     ax.set_title(f"{study.catenary_name}: span {study.span + 1}")
     ax.grid(True, alpha=0.3)
     ax.legend()
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_presag_against_force(recommendation: Recommendation, path: str | Path) -> Path:
@@ -54,7 +51,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     Parameters
     ----------
     recommendation : Recommendation
-        Result of :func:`presag_opt.presag.recommend`.
+        Result of :func:`presag_opt.design.recommend`.
     path : str or Path
         Output file; the suffix selects the format (png, pdf, svg).
 
@@ -79,11 +76,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     ax.set_title(f"Quasi-static pre-sag (range and recommendation from the {recommendation.method} variant)")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Path) -> Path:
@@ -118,11 +111,7 @@ def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Pat
     bottom.grid(True, alpha=0.3)
     bottom.legend(fontsize=7)
     fig.suptitle(f"One elasticity curve instead of interpolation ({studies[0].catenary_name})" if studies else "")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 from presag_opt.dynamics.simulate import SimulationResult  # noqa: E402
@@ -160,11 +149,7 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8, loc="upper right")
     axes[-1, 0].set_xlabel("position along the section [m]")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_waviness(study, path: str | Path) -> Path:
@@ -200,6 +185,11 @@ def plot_waviness(study, path: str | Path) -> Path:
     ax.set_title(f"{study.catenary_name}: F_m {forces.min():g}–{forces.max():g} N")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def _save(fig: plt.Figure, path: str | Path) -> Path:
+    """Lay out, save (150 dpi; the suffix selects the format) and close a figure; return its path."""
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=150)

@@ -9,7 +9,7 @@ import warnings
 
 from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
 from presag_opt.errors import ModelError
-from presag_opt.presag import (
+from presag_opt.design import (
     CASE_STUDY_BAND,
     CASE_STUDY_MODELS,
     CASE_STUDY_SPAN_LENGTH,
@@ -19,10 +19,10 @@ from presag_opt.presag import (
     EmpiricalPresag,
     OperatingBand,
     Recommendation,
-    compare_with_paper,
     recommend,
 )
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.validation import compare_with_paper
 
 PROGRESS_DELAY = 2.0
 """Seconds of work after which progress is shown (on a terminal only). [s]"""

@@ -82,11 +82,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.linearised import TensionOnlyStructure
 from presag_opt.system.catenary import Damping
 from presag_opt.system.quantity import quantity, validate_fields
 
@@ -306,19 +306,19 @@ class StructuralModel:
         )
 
     def static_response(self, load: np.ndarray, *, max_iterations: int = 30) -> np.ndarray:
-        """Static displacement under extra loads, droppers tension-only (semi-smooth Newton).
+        """Static displacement under extra loads, droppers tension-only.
 
-        Solves K u + f_slack(u) = load, where f_slack removes the slack droppers; each iteration
-        factorises the tangent with the current set of slack droppers. Converged when the residual
-        is below 1e-9 of the largest load entry (the law is piecewise linear, so the set of slack
-        droppers has then settled).
+        Solves K u + f_slack(u) = load, where f_slack removes the slack droppers (their preload and
+        axial stiffness, as :meth:`dropper_slack_force` does): the problem of
+        :class:`~presag_opt.static.linearised.TensionOnlyStructure`, which the elasticity's
+        active-set method solves too, with one factorisation of K for every load.
 
         Parameters
         ----------
         load : ndarray, shape (n_dofs,)
             Nodal forces on the model DOFs. [N]
         max_iterations : int
-            Newton iterations allowed. [-]
+            Active-set iterations allowed. [-]
 
         Returns
         -------
@@ -328,29 +328,10 @@ class StructuralModel:
         Raises
         ------
         ConvergenceError
-            If the iterations do not settle.
+            If the set of slack droppers does not settle.
         """
-        u = self.state.factorised_stiffness().solve(load)
-        scale = max(float(np.abs(load).max()), 1e-12)
-        residual = np.inf
-        for _ in range(max_iterations):
-            slack = self.dropper_slack_force(u)
-            residual_vector = self.stiffness @ u - load
-            np.add.at(residual_vector, slack.dofs, slack.force)
-            residual = float(np.abs(residual_vector).max())
-            if residual <= 1e-9 * scale:
-                return u
-            n = self.n_dofs
-            rows, cols = np.meshgrid(slack.dofs, slack.dofs, indexing="ij")
-            tangent = self.stiffness + sp.csr_matrix(
-                (slack.stiffness.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n)
-            )
-            u = u - spla.splu(tangent.tocsc()).solve(residual_vector)
-        raise ConvergenceError(
-            f"static response with tension-only droppers did not converge in {max_iterations} iterations "
-            f"(residual {residual:.3g} N)",
-            {"iterations": max_iterations, "residual_N": residual},
-        )
+        displacement, _ = TensionOnlyStructure.of(self.state).displacement(load, max_iterations=max_iterations)
+        return displacement
 
 
 def structural_model(

@@ -1,0 +1,82 @@
+"""``presag en50318``: the EN 50318-style reference case against the published reference ranges."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+
+from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.static import add_element_flag
+from presag_opt.errors import ModelError
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import form_find
+from presag_opt.validation.en50318 import EN50318_RANGES, en50318_ranges, en50318_verdicts
+
+REFERENCE_CASE = "en50318_2002"
+"""Built-in case file of the EN 50318-style reference model."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``en50318`` sub-command."""
+    speeds = ",".join(str(v) for v in EN50318_RANGES)
+    p = subparsers.add_parser(
+        "en50318",
+        help="simulate the EN 50318-style reference case and judge it against the published ranges",
+        description=(
+            f"Run the built-in case {REFERENCE_CASE} and set every published statistic (F_m, σ, F_m ± 3σ, "
+            "actual extremes, steady-arm uplift, loss of contact) against its EN 50318 reference range."
+        ),
+    )
+    p.add_argument(
+        "--speed", metavar="KMH", type=float_list, default=list(EN50318_RANGES),
+        help=f"speeds in km/h with published ranges, comma-separated (default {speeds})",
+    )
+    p.add_argument("--time-step", metavar="MS", type=positive_float, default=2.0, help="time step in ms (default 2)")
+    add_element_flag(p)
+    add_json_flag(p)
+    p.set_defaults(handler=en50318_command)
+
+
+def en50318_command(args: argparse.Namespace) -> int:
+    """Handler of ``presag en50318``: one run per speed, a verdict per statistic."""
+    from presag_opt.dynamics.case import load_case  # the simulator is imported only when this runs
+
+    case = load_case(REFERENCE_CASE)
+    settings = dataclasses.replace(
+        case.settings,
+        integrator=dataclasses.replace(case.settings.integrator, time_step=args.time_step * 1e-3),
+        static=StaticSettings(element_length=args.element_length),
+    )
+    if not args.speed:
+        raise ModelError("--speed: give at least one speed in km/h")
+    for speed in args.speed:  # every input is checked before the form-finding starts
+        en50318_ranges(speed)
+        case.plan(speed / 3.6, settings)
+    state = form_find(case.catenary, settings.static)
+    runs = []
+    for speed in args.speed:
+        if not args.json:
+            print(f"simulating {speed:g} km/h ...", file=sys.stderr, flush=True)
+        stats = case.run(speed / 3.6, state=state, settings=settings).to_dict()
+        runs.append((speed, stats, en50318_verdicts(speed, stats)))
+    if args.json:
+        print_json({
+            "case": case.name,
+            "runs": [
+                {"speed_kmh": speed, "beta": stats["beta"],
+                 "verdicts": [dataclasses.asdict(v) | {"inside": v.inside} for v in verdicts]}
+                for speed, stats, verdicts in runs
+            ],
+        })
+        return 0
+    print(f"{case.name}: {settings.static.element_length:g} m elements, {args.time_step:g} ms time step")
+    for speed, stats, verdicts in runs:
+        print(f"\n{speed:g} km/h (β = {stats['beta']:.3f}):")
+        print(table(
+            ["statistic", "value", "published range", "verdict"],
+            [(v.statistic, v.value, f"{v.low:g} – {v.high:g}", "inside" if v.inside else "OUTSIDE")
+             for v in verdicts],
+            ["{}", "{:.1f}", "{}", "{}"],
+        ))
+    return 0

@@ -1,0 +1,153 @@
+"""The unloaded structure linearised about an equilibrium, with its droppers tension-only.
+
+:class:`TensionOnlyStructure` solves (K − G_S D_S G_Sᵀ) q = p + G_S f0_S for the displacements q under
+extra loads p, with S the set of slack droppers: the tangent stiffness K at the equilibrium, G the
+droppers' length gradients, D their stiffnesses and f0 their preloads. One factorisation of K and
+W = K⁻¹ G serve every load through the Woodbury identity; S is found by the active-set iteration (a
+dropper whose force would drop below zero is removed, a removed one that would stretch again comes
+back). Geometric nonlinearity is left out; the full nonlinear equilibrium is
+:meth:`~presag_opt.static.equilibrium.EquilibriumState.solve`.
+
+The elasticity's active-set method (:mod:`presag_opt.elasticity`) and the dynamic model's static
+response (:mod:`presag_opt.dynamics.structure`) both solve this problem here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from presag_opt.errors import ConvergenceError
+from presag_opt.static.equilibrium import EquilibriumState
+
+
+@dataclass(frozen=True)
+class TensionOnlyStructure:
+    """The structure linearised about an equilibrium, droppers as tension-only constraints.
+
+    Attributes
+    ----------
+    state : EquilibriumState
+        The (unloaded) equilibrium linearised about.
+    gradients : ndarray, shape (free DOFs, droppers)
+        Length gradient G of every dropper on the free DOFs. [-]
+    influence : ndarray, shape (free DOFs, droppers)
+        W = K⁻¹ G. [m/N]
+    gram : ndarray, shape (droppers, droppers)
+        Gᵀ K⁻¹ G. [m/N]
+    preload : ndarray
+        Static dropper forces f0. [N]
+    stiffness : ndarray
+        Axial dropper stiffnesses D. [N/m]
+    """
+
+    state: EquilibriumState
+    gradients: np.ndarray
+    influence: np.ndarray
+    gram: np.ndarray
+    preload: np.ndarray
+    stiffness: np.ndarray
+
+    @classmethod
+    def of(cls, state: EquilibriumState) -> TensionOnlyStructure:
+        """The linearised structure of a state (built once and kept with the state).
+
+        Parameters
+        ----------
+        state : EquilibriumState
+            Equilibrium with every dropper in tension.
+        """
+        if "tension_only" not in state._cache:
+            disc = state.discretisation
+            free = state.model.functions.free_dofs
+            drops = disc.dropper_elements
+            ax = disc.axial
+            d = state.positions[ax.node_b[drops]] - state.positions[ax.node_a[drops]]
+            d /= np.linalg.norm(d, axis=1)[:, None]
+            full = np.zeros((disc.n_dofs, len(drops)))
+            cols = np.arange(len(drops))
+            for c in range(3):
+                full[3 * ax.node_b[drops] + c, cols] = d[:, c]
+                full[3 * ax.node_a[drops] + c, cols] = -d[:, c]
+            gradients = full[free]
+            influence = state.factorised_stiffness().solve(gradients)
+            state._cache["tension_only"] = cls(
+                state=state,
+                gradients=gradients,
+                influence=influence,
+                gram=gradients.T @ influence,
+                preload=state.dropper_forces(),
+                stiffness=state.params.axial_stiffness[drops],
+            )
+        return state._cache["tension_only"]
+
+    def slack_set(
+        self, load_stretch: np.ndarray, slack: np.ndarray | None = None, *, max_iterations: int | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The slack droppers under a load, and the correction of the slack droppers' forces.
+
+        Parameters
+        ----------
+        load_stretch : ndarray
+            Gᵀ K⁻¹ p: every dropper's stretch under the load with all droppers taut. [m]
+        slack : ndarray of bool, optional
+            Slack set to start the iteration from (a neighbouring load's, for speed); default none.
+        max_iterations : int, optional
+            Active-set iterations allowed; default 4 per dropper plus 10. [-]
+
+        Returns
+        -------
+        slack : ndarray of bool
+            The slack droppers.
+        correction : ndarray
+            z = (D_S⁻¹ − G_Sᵀ K⁻¹ G_S)⁻¹ G_Sᵀ q0, one per slack dropper, with q0 = K⁻¹ (p + G_S f0_S);
+            the displacement is q0 + W_S z. [N]
+
+        Raises
+        ------
+        ConvergenceError
+            If the set of slack droppers does not settle.
+        """
+        f0, k, gram = self.preload, self.stiffness, self.gram
+        slack = np.zeros(len(f0), dtype=bool) if slack is None else slack
+        iterations = 4 * len(f0) + 10 if max_iterations is None else max_iterations
+        for _ in range(iterations):
+            s = np.flatnonzero(slack)
+            # q0 = K^-1 (p + G_S f0_S); y = G_S^T q0
+            stretch0 = load_stretch + gram[:, s] @ f0[s]
+            if len(s):
+                z = np.linalg.solve(np.diag(1.0 / k[s]) - gram[np.ix_(s, s)], stretch0[s])
+                stretch = stretch0 + gram[:, s] @ z
+            else:
+                z, stretch = np.zeros(0), stretch0
+            new_slack = f0 + k * stretch < 0.0
+            if np.array_equal(new_slack, slack):
+                return slack, z
+            slack = new_slack
+        raise ConvergenceError(
+            f"tension-only droppers: the set of slack droppers did not settle in {iterations} iterations",
+            {"slack_droppers": int(slack.sum()), "iterations": iterations},
+        )
+
+    def displacement(self, load: np.ndarray, *, max_iterations: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Displacements from the equilibrium under extra loads, and the slack droppers.
+
+        Parameters
+        ----------
+        load : ndarray, shape (free DOFs,)
+            Nodal forces on the free DOFs. [N]
+        max_iterations : int, optional
+            Active-set iterations allowed (see :meth:`slack_set`). [-]
+
+        Returns
+        -------
+        displacement : ndarray
+            q on the free DOFs. [m]
+        slack : ndarray of bool
+            The slack droppers.
+        """
+        slack, z = self.slack_set(self.influence.T @ load, max_iterations=max_iterations)
+        s = np.flatnonzero(slack)
+        q = self.state.factorised_stiffness().solve(load) + self.influence[:, s] @ (self.preload[s] + z)
+        return q, slack
