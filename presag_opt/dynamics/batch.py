@@ -23,31 +23,21 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.sparse as sp
 
 from presag_opt.dynamics import kernel
+from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import (
-    RunPlan,
-    SimulationSettings,
-    plan_run,
-    recorded_droppers,
-    static_contact,
-)
+from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics
-from presag_opt.dynamics.structure import StructuralModel, structural_model
+from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.static.linalg import BandedSolver
 from presag_opt.system.quantity import quantity, validate_fields
 
 BATCH_SIZE = 16
-"""Runs advanced together by one call of the compiled kernel: enough to vectorise across runs, few
-enough that a run's working arrays (about 14 × n_dofs doubles) stay in the processor's cache. [-]"""
-
-CHUNK_STEPS = 250
-"""Time steps per call of the compiled kernel: Ctrl-C is honoured between calls. [-]"""
+"""Runs advanced together by the compiled kernel: enough to vectorise across runs and to hide the
+latency of the banded substitutions, few enough that the working arrays (about 14 × n_dofs doubles
+per run) stay close to the processor. [-]"""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -91,8 +81,17 @@ class RunOutcome:
         β = v / c. [-]
     doppler_factor : float
         (c − v)/(c + v). [-]
+    wave_speed : float
+        Contact-wire wave speed. [m/s]
+    analysed_spans : tuple of int
+        Spans (from 0) of the analysed section.
+    analysed_section : tuple of float
+        Stations where the analysed section starts and ends. [m]
     newton_iterations : int
         Newton corrections over the whole run. [-]
+    wall_time : float
+        The run's share of the wall-clock time of the kernel call it ran in (that call's time
+        divided by its runs). [s]
     error : str or None
         Why the run failed (one line), None if it finished.
     time : ndarray or None
@@ -108,7 +107,11 @@ class RunOutcome:
     slack_droppers_max: int
     speed_ratio: float
     doppler_factor: float
+    wave_speed: float
+    analysed_spans: tuple[int, ...]
+    analysed_section: tuple[float, float]
     newton_iterations: int
+    wall_time: float
     error: str | None = None
     time: np.ndarray | None = None
     contact_force: np.ndarray | None = None
@@ -118,22 +121,43 @@ class RunOutcome:
         """Whether the run finished."""
         return self.error is None
 
-    def to_dict(self) -> dict:
-        """Headline numbers with units in the key names, as the single-run ``--json`` output."""
+    def to_dict(self, *, catenary: str, pantograph: str, time_step: float) -> dict:
+        """Headline numbers with units in the key names: the keys of the single-run ``--json`` output.
+
+        Parameters
+        ----------
+        catenary : str
+            Catenary name.
+        pantograph : str
+            Name of the leading pantograph.
+        time_step : float
+            Time step of the batch. [s]
+        """
         p = self.point
         out = {
+            "catenary": catenary,
+            "pantograph": pantograph,
             "speed_kmh": p.speed * 3.6,
             "static_force_N": p.static_force,
             "aero_force_N": p.aero_coefficient * p.speed**2,
+        }
+        if self.ok:
+            out.update(self.statistics[0].to_dict())
+            out["uplift_max_mm"] = self.uplift_max * 1e3
+        out.update({
             "beta": self.speed_ratio,
             "doppler_factor": self.doppler_factor,
-        }
+            "wave_speed_kmh": self.wave_speed * 3.6,
+            "analysed_spans": [s + 1 for s in self.analysed_spans],
+            "analysed_section_m": list(self.analysed_section),
+        })
+        if self.ok:
+            out["slack_droppers_max"] = self.slack_droppers_max
+        out["time_step_ms"] = time_step * 1e3
+        out["wall_time_s"] = self.wall_time
         if not self.ok:
-            return {**out, "error": self.error}
-        out.update(self.statistics[0].to_dict())
-        out["uplift_max_mm"] = self.uplift_max * 1e3
-        out["slack_droppers_max"] = self.slack_droppers_max
-        if len(self.statistics) > 1:
+            out["error"] = self.error
+        elif len(self.statistics) > 1:
             out["pantographs"] = [s.to_dict() for s in self.statistics]
         return out
 
@@ -146,6 +170,8 @@ class BatchResult:
     ----------
     catenary_name : str
         Name of the catenary.
+    pantograph_names : tuple of str
+        Pantograph models, front to rear.
     runs : tuple of RunOutcome
         One per operating point, in the order given.
     wall_time : float
@@ -155,9 +181,22 @@ class BatchResult:
     """
 
     catenary_name: str
+    pantograph_names: tuple[str, ...]
     runs: tuple[RunOutcome, ...]
     wall_time: float
     settings: SimulationSettings
+
+    def to_dict(self) -> dict:
+        """All runs as the ``--json`` output of ``presag simulate`` with several operating points."""
+        keys = dict(catenary=self.catenary_name, pantograph=self.pantograph_names[0],
+                    time_step=self.settings.integrator.time_step)
+        return {
+            "catenary": self.catenary_name,
+            "pantographs": list(self.pantograph_names),
+            "wall_time_s": self.wall_time,
+            "failed_runs": len(self.failed),
+            "runs": [r.to_dict(**keys) for r in self.runs],
+        }
 
     @property
     def failed(self) -> tuple[RunOutcome, ...]:
@@ -214,19 +253,22 @@ def simulate_many(
         raise ModelError("operating points: the list is empty; give at least one (speed, static force)")
     plans = [_plan(state, pantograph, p, spacings, settings) for p in points]
     model = structural_model(state, settings=settings.structure)
-    shared = _SharedSystem.build(model, plans[0].pantographs, settings)
+    system = BatchSystem.build(model, plans[0].pantographs, settings)
     dt = settings.integrator.time_step
     order = sorted(range(len(points)), key=lambda i: -plans[i].step_count(dt))
     outcomes: list[RunOutcome | None] = [None] * len(points)
     for first in range(0, len(order), BATCH_SIZE):
         members = order[first : first + BATCH_SIZE]
-        for i, outcome in zip(members, _run_batch(state, model, shared, [plans[i] for i in members], settings,
-                                                  keep_histories)):
-            outcomes[i] = outcome
+        batch_started = wallclock.perf_counter()
+        records = integrate_batch(state, system, [plans[i] for i in members], settings)
+        share = (wallclock.perf_counter() - batch_started) / len(members)
+        for b, i in enumerate(members):
+            outcomes[i] = _outcome(plans[i], b, records, settings, keep_histories, share)
         if progress is not None:
             progress(len(members))
     return BatchResult(
         catenary_name=state.catenary.name,
+        pantograph_names=tuple(p.name for p in plans[0].pantographs),
         runs=tuple(outcomes),
         wall_time=wallclock.perf_counter() - started,
         settings=settings,
@@ -251,194 +293,41 @@ def _plan(
         ) from None
 
 
-@dataclass(frozen=True)
-class _SharedSystem:
-    """What every run of a batch shares, in the kernel's banded DOF order (see kernel notes)."""
-
-    order: np.ndarray  # banded position -> model DOF
-    position: np.ndarray  # model DOF -> banded position
-    scalars: np.ndarray
-    arrays: tuple
-    analysed_supports: np.ndarray
-    head_dofs: np.ndarray
-
-    @classmethod
-    def build(cls, model: StructuralModel, pantographs: tuple[Pantograph, ...], settings: SimulationSettings):
-        integ = settings.integrator
-        alpha = integ.hht_alpha if integ.scheme == "hht" else 0.0
-        beta, gamma, dt = (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha, integ.time_step
-        s, a0, a1 = 1.0 + alpha, 1.0 / (beta * dt**2), gamma / (beta * dt)
-        effective = (a0 * model.mass + s * (model.stiffness + a1 * model.damping)).tocsc()
-        effective.sort_indices()
-        ordering = BandedSolver.for_pattern(effective)
-        order = ordering.permutation
-        position = np.empty_like(order)
-        position[order] = np.arange(len(order))
-        try:
-            factor = sla.cholesky_banded(_lower_band(effective, order, ordering.bandwidth), lower=True,
-                                         check_finite=False)
-        except np.linalg.LinAlgError:
-            raise ModelError("the effective matrix a0 M + s (K + a1 C) is not positive definite: check the model") from None
-        # The kernel reads a row's band entries together: store the bands row by row.
-        factor_band = np.ascontiguousarray(factor.T)
-        stiffness_band = np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T)
-
-        n = model.n_dofs
-        sizes = [p.n_dofs for p in pantographs]
-        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int)
-        pmass = sp.block_diag([p.mass_matrix() for p in pantographs]).toarray()
-        pdamping = sp.block_diag([p.damping_matrix() for p in pantographs]).toarray()
-        pstiffness = sp.block_diag([p.stiffness_matrix() for p in pantographs]).toarray()
-        pinverse = np.linalg.inv(a0 * pmass + s * (pstiffness + a1 * pdamping))
-        friction_dofs, friction_levels = [], []
-        for p, offset in zip(pantographs, offsets):
-            for i, stage in enumerate(p.stages):
-                if stage.friction > 0.0:
-                    lower = n + offset + i + 1 if i + 1 < p.n_dofs else -1
-                    friction_dofs.append((n + offset + i, lower))
-                    friction_levels.append(stage.friction)
-        head_dofs = n + offsets
-
-        d = model.droppers
-        dropper_dofs = position[d.dofs]
-        cw_height = np.zeros(n)
-        cw_height[position[model.cw_z]] = model.cw_height
-        scalars = np.array([
-            model.rayleigh_alpha, model.rayleigh_beta, dt, alpha, beta, gamma, integ.tolerance,
-            integ.max_iterations, settings.friction.velocity,
-        ])
-        arrays = (
-            stiffness_band, factor_band, model.mass.diagonal()[order].copy(), pmass.diagonal().copy(), pdamping,
-            pstiffness, pinverse, None, None, head_dofs.astype(np.int64), np.array([p.contact.stiffness for p in pantographs]),
-            np.array(friction_dofs, dtype=np.int64).reshape(-1, 2), np.array(friction_levels, dtype=float),
-            dropper_dofs.astype(np.int64), d.gradient.copy(), d.axial_stiffness.astype(float).copy(),
-            d.preload.astype(float).copy(), None, None, cw_height,
-        )
-        return cls(order, position, scalars, arrays, np.zeros(0, dtype=np.int64), head_dofs)
-
-
-def _lower_band(matrix: sp.csc_matrix, order: np.ndarray, bandwidth: int) -> np.ndarray:
-    """Lower band of a symmetric matrix in the given order: band[k, j] = A[j + k, j]."""
-    permuted = sp.coo_matrix(matrix[order][:, order])
-    lower = (permuted.row >= permuted.col) & (permuted.data != 0.0)  # stored zeros may lie outside the band
-    band = np.zeros((bandwidth + 1, matrix.shape[0]))
-    np.add.at(band, (permuted.row[lower] - permuted.col[lower], permuted.col[lower]), permuted.data[lower])
-    return band
-
-
-def _influence_columns(factor_band: np.ndarray, dofs: np.ndarray) -> np.ndarray:
-    """Columns K_eff⁻¹ e_j for the banded positions ``dofs``, as rows of an array. [m/N]"""
-    n = factor_band.shape[0]
-    out = np.empty((len(dofs), n))
-    for start in range(0, len(dofs), 64):
-        block = dofs[start : start + 64]
-        unit = np.zeros((n, len(block)))
-        unit[block, np.arange(len(block))] = 1.0
-        kernel.band_cholesky_solve(factor_band, unit, len(block))
-        out[start : start + len(block)] = unit.T
-    return out
-
-
-def _run_batch(
-    state: EquilibriumState,
-    model: StructuralModel,
-    shared: _SharedSystem,
-    plans: list[RunPlan],
-    settings: SimulationSettings,
-    keep_histories: bool,
-) -> list[RunOutcome]:
-    """Integrate one batch (runs sorted longest first) and turn its records into outcomes."""
-    dt = settings.integrator.time_step
-    n = model.n_dofs
-    n_runs, n_pan = len(plans), len(plans[0].pantographs)
-    n_steps = np.array([p.step_count(dt) for p in plans], dtype=np.int64)
-    longest = int(n_steps.max())
-    path_nodes = np.zeros((n_runs, n_pan, longest + 1, 2), dtype=np.int64)
-    path_weights = np.zeros((n_runs, n_pan, longest + 1, 2))
-    path_compliance = np.zeros((n_runs, n_pan, longest + 1))
-    head_height = np.zeros((n_runs, n_pan))
-    u = np.zeros((n, n_runs))
-    for b, plan in enumerate(plans):
-        times = dt * np.arange(n_steps[b] + 1)
-        u0, paths = static_contact(state, model, plan, times)
-        u[:, b] = u0[shared.order]
-        for p, path in enumerate(paths):
-            path_nodes[b, p, : n_steps[b] + 1] = shared.position[model.cw_z[path.nodes]]
-            path_weights[b, p, : n_steps[b] + 1] = path.weights
-            path_compliance[b, p, : n_steps[b] + 1] = path.compliance
-            head_height[b, p] = path.head_height
-    candidates = np.unique(np.concatenate([path_nodes.ravel(), shared.arrays[13].ravel()]))
-    column_of = np.full(n, -1, dtype=np.int64)
-    column_of[candidates] = np.arange(len(candidates))
-    columns = _influence_columns(shared.arrays[1], candidates)
-    recorded = np.zeros(len(model.droppers), dtype=np.bool_)
-    recorded[recorded_droppers(model, plans[0].analysed_section, settings)] = True
-    supports = np.flatnonzero(
-        (model.state.discretisation.mast_station >= plans[0].analysed_section[0] - 1e-9)
-        & (model.state.discretisation.mast_station <= plans[0].analysed_section[1] + 1e-9)
-    )
-    dropper_dofs, dropper_gradient = shared.arrays[13], shared.arrays[14]
-    stretch_influence = np.einsum("cdk,dk->cd", columns[:, dropper_dofs], dropper_gradient)
-    arrays = list(shared.arrays)
-    arrays[7], arrays[8] = column_of, columns
-    arrays[17], arrays[18] = recorded, shared.position[model.support_z[supports]].astype(np.int64)
-    is_candidate = np.zeros(n, dtype=np.bool_)
-    is_candidate[candidates] = True
-    arrays = tuple(arrays) + (np.ascontiguousarray(stretch_influence), is_candidate, candidates.astype(np.int64))
-    n_p = shared.arrays[3].shape[0]
-    uplift = np.array([p.operation.uplift_force for p in plans])
-    runs = (n_steps, path_nodes, path_weights, path_compliance, head_height, uplift)
-    run_state = (u, np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)),
-                 np.zeros((n_p, n_runs)), np.zeros((n_p, n_runs)), np.zeros((n_p, n_runs)), np.zeros((n_p, n_runs)))
-    out = (
-        np.zeros((n_runs, n_pan, longest + 1)), np.zeros(n_runs), np.zeros(n_runs, dtype=np.int64),
-        np.zeros(n_runs, dtype=np.int64), np.zeros(n_runs, dtype=np.int64), np.zeros(n_runs), np.zeros(n_runs, dtype=np.int64),
-    )
-    scratch = kernel.make_scratch(arrays)
-    size = len(scratch[1])
-    work = (
-        np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros(n_runs),
-        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
-        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
-        np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros(n_runs), np.zeros(n_runs, dtype=np.bool_),
-    )
-    kernel.initialise(shared.scalars, arrays, runs, run_state, out, scratch)
-    for first in range(1, longest + 1, CHUNK_STEPS):
-        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), shared.scalars, arrays, runs, run_state, out,
-                       work, scratch)
-    return [_outcome(plan, b, n_steps[b], dt, out, settings, keep_histories) for b, plan in enumerate(plans)]
-
-
 def _outcome(
-    plan: RunPlan, b: int, n_steps: int, dt: float, out: tuple, settings: SimulationSettings, keep_histories: bool
+    plan: RunPlan, b: int, records: BatchRecords, settings: SimulationSettings, keep_histories: bool, wall_time: float
 ) -> RunOutcome:
-    contact_force, uplift_max, slack_max, status, fail_step, fail_residual, iterations = out
+    """Run ``b`` of a batch's records as an outcome: its statistics, or why it stopped."""
+    dt = settings.integrator.time_step
     point = OperatingPoint(
         speed=plan.operation.speed, static_force=plan.operation.static_force,
         aero_coefficient=plan.operation.aero_coefficient,
     )
     common = dict(point=point, speed_ratio=plan.speed_ratio, doppler_factor=plan.doppler_factor,
-                  newton_iterations=int(iterations[b]))
-    if status[b] != kernel.STATUS_OK:
-        what = "a non-finite residual" if status[b] == kernel.STATUS_NOT_FINITE else (
-            f"residual {fail_residual[b]:.3g} N after {settings.integrator.max_iterations} corrections")
-        error = (f"Newton iteration did not converge in step {fail_step[b]} (t = {fail_step[b] * dt:.6g} s): {what}")
-        return RunOutcome(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, error=error, **common)
+                  wave_speed=plan.wave_speed, analysed_spans=plan.analysed_spans,
+                  analysed_section=plan.analysed_section, newton_iterations=int(records.iterations[b]),
+                  wall_time=wall_time)
+    failed = dict(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, **common)
+    if records.status[b] != kernel.STATUS_OK:
+        step = int(records.fail_step[b])
+        what = ("a non-finite residual" if records.status[b] == kernel.STATUS_NOT_FINITE else
+                f"residual {records.fail_residual[b]:.3g} N after {settings.integrator.max_iterations} corrections")
+        return RunOutcome(error=f"Newton iteration did not converge in step {step} (t = {step * dt:.6g} s): {what}",
+                          **failed)
+    n_steps = int(records.n_steps[b])
     time = dt * np.arange(n_steps + 1)
-    forces = contact_force[b, :, : n_steps + 1].T.copy()
+    forces = records.contact_force[b, :, : n_steps + 1].T.copy()
     try:
         statistics = tuple(
-            contact_force_statistics(time, forces[:, i], window_start=w[0], window_end=w[1],
-                                     cutoff=settings.cutoff_frequency)
-            for i, w in enumerate(plan.window(i) for i in range(len(plan.pantographs)))
+            contact_force_statistics(time, forces[:, i], window_start=plan.window(i)[0],
+                                     window_end=plan.window(i)[1], cutoff=settings.cutoff_frequency)
+            for i in range(len(plan.pantographs))
         )
     except (ModelError, ConvergenceError) as exc:
-        return RunOutcome(statistics=(), uplift_max=float("nan"), slack_droppers_max=0,
-                          error=str(exc).splitlines()[0], **common)
+        return RunOutcome(error=str(exc).splitlines()[0], **failed)
     return RunOutcome(
         statistics=statistics,
-        uplift_max=float(uplift_max[b]),
-        slack_droppers_max=int(slack_max[b]),
+        uplift_max=float(records.uplift_max[b]),
+        slack_droppers_max=int(records.slack_max[b]),
         time=time if keep_histories else None,
         contact_force=forces if keep_histories else None,
         **common,

@@ -30,6 +30,28 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+SHARED = (
+    "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",
+    "pantograph_inverse", "column_of", "columns", "head_dof", "contact_stiffness", "friction_dofs",
+    "friction_levels", "dropper_dofs", "dropper_gradient", "dropper_stiffness", "dropper_preload",
+    "dropper_recorded", "support_dofs", "cw_height", "stretch_influence", "candidate", "candidate_rows",
+)
+"""The arrays all runs share, in the order of the kernel's ``shared`` tuple (catenary DOFs in banded
+order, pantograph DOFs after them): K and the Cholesky factor of K_eff by rows, band[j, k] = A[j + k, j]
+[N/m, sqrt(N/m)]; lumped masses [kg]; the pantographs' M, C, K and K_eff⁻¹; the row of ``columns``
+(K_eff⁻¹ e_j, [m/N]) for each DOF, −1 if none; each head's DOF and contact stiffness [N/m]; friction
+elements (upper DOF, lower DOF or −1 for the car body) and levels [N]; dropper DOFs (6 each), stretch
+gradients, axial stiffness [N/m], preload [N] and whether recorded; the supports of the analysed
+section; static contact-wire height per DOF [m]; each dropper's stretch per unit force at each column
+[m/N]; which rows a nonlinear force can reach, and their list."""
+
+SCALARS = (
+    "rayleigh_alpha", "rayleigh_beta", "time_step", "hht_alpha", "newmark_beta", "newmark_gamma", "tolerance",
+    "max_iterations", "friction_velocity",
+)
+"""The kernel's ``scalars`` array: α_R [1/s], β_R [s], Δt [s], HHT α, Newmark β and γ, Newton tolerance,
+iteration limit, friction regularisation velocity [m/s]."""
+
 STATUS_RUNNING = -1
 STATUS_OK = 0
 STATUS_NOT_CONVERGED = 1
@@ -38,40 +60,60 @@ STATUS_NOT_FINITE = 2
 
 @njit(cache=True)
 def band_matvec(band, x, out, runs):
-    """out[:, :runs] = A x[:, :runs]; A symmetric, stored by its lower band, band[j, k] = A[j + k, j]."""
+    """out[:, :runs] = A x[:, :runs]; A symmetric, stored by its lower band, band[j, k] = A[j + k, j].
+
+    Row by row (each output row written once, its inputs read from a window of 2·bw + 1 rows that
+    stays in cache), the runs innermost.
+    """
     n, width = band.shape
+    bw = width - 1
+    acc = np.empty(runs)
     for j in range(n):
         d = band[j, 0]
         for b in range(runs):
-            out[j, b] = d * x[j, b]
-    for j in range(n):
-        for k in range(1, min(width - 1, n - 1 - j) + 1):
+            acc[b] = d * x[j, b]
+        for k in range(1, min(bw, n - 1 - j) + 1):
             value = band[j, k]
             for b in range(runs):
-                out[j + k, b] += value * x[j, b]
-                out[j, b] += value * x[j + k, b]
+                acc[b] += value * x[j + k, b]
+        for k in range(1, min(bw, j) + 1):
+            value = band[j - k, k]
+            for b in range(runs):
+                acc[b] += value * x[j - k, b]
+        for b in range(runs):
+            out[j, b] = acc[b]
 
 
 @njit(cache=True)
 def band_cholesky_solve(factor, x, runs):
-    """Solve L Lᵀ y = x in place for the first ``runs`` columns; factor[j, k] = L[j + k, j]."""
+    """Solve L Lᵀ y = x in place for the first ``runs`` columns; factor[j, k] = L[j + k, j].
+
+    Forward and backward substitution in dot-product form (each row finished in one pass over the
+    bw rows before or after it), the runs innermost.
+    """
     n, width = factor.shape
+    bw = width - 1
+    acc = np.empty(runs)
     for j in range(n):
+        for b in range(runs):
+            acc[b] = x[j, b]
+        for k in range(1, min(bw, j) + 1):
+            value = factor[j - k, k]
+            for b in range(runs):
+                acc[b] -= value * x[j - k, b]
         d = factor[j, 0]
         for b in range(runs):
-            x[j, b] /= d
-        for k in range(1, min(width - 1, n - 1 - j) + 1):
-            value = factor[j, k]
-            for b in range(runs):
-                x[j + k, b] -= value * x[j, b]
+            x[j, b] = acc[b] / d
     for j in range(n - 1, -1, -1):
-        for k in range(1, min(width - 1, n - 1 - j) + 1):
+        for b in range(runs):
+            acc[b] = x[j, b]
+        for k in range(1, min(bw, n - 1 - j) + 1):
             value = factor[j, k]
             for b in range(runs):
-                x[j, b] -= value * x[j + k, b]
+                acc[b] -= value * x[j + k, b]
         d = factor[j, 0]
         for b in range(runs):
-            x[j, b] /= d
+            x[j, b] = acc[b] / d
 
 
 @njit(cache=True)
@@ -220,6 +262,7 @@ def initialise(scalars, shared, runs, state, out, scratch):
     n_p = pantograph_stiffness.shape[0]
     n_runs = u.shape[1]
     band_matvec(stiffness_band, u, r, n_runs)
+    state[8][:, :] = r  # K u; K v = K a = 0 at rest
     rate[:] = 0.0
     v_of[:] = 0.0
     for b in range(n_runs):
@@ -261,22 +304,30 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
 
     Runs are sorted by step count, longest first, so the runs still going form a prefix of the
     batch; a run stops at its own last step or when its Newton iteration fails.
+
+    The products K u, K v and K a are carried along with u, v and a instead of being formed each
+    step: K_eff δ = g − s E φ with K_eff = (a0 + s a1 α_R) M + s (1 + a1 β_R) K gives K δ from
+    quantities the step has anyway, so the step needs no product with K. During a step u, v, K u,
+    K v and r hold ũ, ṽ, K ũ, K ṽ and the right-hand side α r_n.
     """
     rayleigh_alpha, rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[:6]
-    stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
+    factor_band, mass, columns, candidate = shared[1], shared[2], shared[8], shared[21]
     n_steps = runs[0]
     u, v, a, r = state[0], state[1], state[2], state[3]
+    ku, kv, ka = state[8], state[9], state[10]
     status = out[3]
-    u_pred, v_pred, delta, rhs, scale, phi_count, phi_column, phi_coefficient = work[:8]
-    linear, g, first_residual = work[11], work[12], work[13]
-    candidate = shared[21]
+    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
+    phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
     n = mass.shape[0]
     n_runs = u.shape[1]
     s = 1.0 + hht_alpha
     a0 = 1.0 / (newmark_beta * dt * dt)
+    a1 = newmark_gamma / (newmark_beta * dt)
     c_v = dt * (1.0 - newmark_gamma)
     c_a = dt * dt * (0.5 - newmark_beta)
     c_g = newmark_gamma * dt
+    c_mass = a0 + s * a1 * rayleigh_alpha
+    c_stiffness = s * (1.0 + a1 * rayleigh_beta)
     for step in range(first_step, last_step + 1):
         active = 0
         for b in range(n_runs):
@@ -284,19 +335,11 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
                 active = b + 1
         if active == 0:
             break
-        # Predictors and ũ + β_R ṽ, whose K-product gives C ṽ + K ũ = α_R M ṽ + K (ũ + β_R ṽ).
-        for j in range(n):
-            for b in range(active):
-                up = u[j, b] + dt * v[j, b] + c_a * a[j, b]
-                vp = v[j, b] + c_v * a[j, b]
-                u_pred[j, b] = up
-                v_pred[j, b] = vp
-                delta[j, b] = up + rayleigh_beta * vp
-        band_matvec(stiffness_band, delta, rhs, active)
-        # rhs = α r (the uplift acts on the heads only), g = rhs − s (C ṽ + K ũ), then δ_lin = K_eff⁻¹ g.
-        # The step's force scale (largest |s (C ṽ + K ũ + f_nl)| and |rhs|) and the residual at the
-        # predictor (largest |s f_nl − g|) are taken here over the rows no nonlinear force can reach,
-        # and over the others run by run (_newton), where the forces are known.
+        # Predictors; C ṽ + K ũ = α_R M ṽ + K ũ + β_R K ṽ; rhs = α r_n (the uplift acts on the heads
+        # only); g = rhs − s (C ṽ + K ũ) and δ_lin = K_eff⁻¹ g. The step's force scale (largest
+        # |s (C ṽ + K ũ + f_nl)| and |rhs|) and residual at the predictor (largest |s f_nl − g|) are
+        # taken here over the rows no nonlinear force can reach, and over the others run by run
+        # (_newton), where the forces are known.
         for b in range(active):
             scale[b] = 0.0
             first_residual[b] = 0.0
@@ -304,20 +347,36 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
             m = rayleigh_alpha * mass[j]
             if candidate[j]:
                 for b in range(active):
-                    lin = rhs[j, b] + m * v_pred[j, b]
+                    up = u[j, b] + dt * v[j, b] + c_a * a[j, b]
+                    vp = v[j, b] + c_v * a[j, b]
+                    kup = ku[j, b] + dt * kv[j, b] + c_a * ka[j, b]
+                    kvp = kv[j, b] + c_v * ka[j, b]
+                    u[j, b] = up
+                    v[j, b] = vp
+                    ku[j, b] = kup
+                    kv[j, b] = kvp
+                    lin = m * vp + kup + rayleigh_beta * kvp
                     linear[j, b] = lin
                     rh = hht_alpha * r[j, b]
-                    rhs[j, b] = rh
+                    r[j, b] = rh
                     gj = rh - s * lin
                     g[j, b] = gj
                     delta[j, b] = gj
             else:
                 for b in range(active):
-                    lin = rhs[j, b] + m * v_pred[j, b]
-                    linear[j, b] = lin
+                    up = u[j, b] + dt * v[j, b] + c_a * a[j, b]
+                    vp = v[j, b] + c_v * a[j, b]
+                    kup = ku[j, b] + dt * kv[j, b] + c_a * ka[j, b]
+                    kvp = kv[j, b] + c_v * ka[j, b]
+                    u[j, b] = up
+                    v[j, b] = vp
+                    ku[j, b] = kup
+                    kv[j, b] = kvp
+                    lin = m * vp + kup + rayleigh_beta * kvp
                     rh = hht_alpha * r[j, b]
-                    rhs[j, b] = rh
+                    r[j, b] = rh
                     gj = rh - s * lin
+                    g[j, b] = gj
                     delta[j, b] = gj
                     scale[b] = max(scale[b], abs(s * lin), abs(rh))
                     first_residual[b] = max(first_residual[b], abs(gj))
@@ -326,21 +385,28 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
             phi_count[b] = 0
             if status[b] == STATUS_RUNNING and n_steps[b] >= step:
                 _newton(b, step, scalars, shared, runs, state, out, work, scratch)
-        # δ = δ_lin − s Z φ and the state update; HHT's r_(n+1) = (rhs − M a)/s (+ R/s, added per run).
+        # δ = δ_lin − s Z φ, K δ = (g − c_mass M δ)/c_stiffness (the −s φ part of g is added per run),
+        # and the state update; HHT's r_(n+1) = (rhs − M a)/s (+ R/s, added per run).
         for j in range(n):
+            for b in range(active):
+                for k in range(phi_count[b]):
+                    delta[j, b] -= phi_coefficient[b, k] * columns[phi_column[b, k], j]
             m = mass[j]
             for b in range(active):
                 d = delta[j, b]
-                for k in range(phi_count[b]):
-                    d -= phi_coefficient[b, k] * columns[phi_column[b, k], j]
                 aj = a0 * d
-                u[j, b] = u_pred[j, b] + d
+                u[j, b] += d
                 a[j, b] = aj
-                v[j, b] = v_pred[j, b] + c_g * aj
-                r[j, b] = (rhs[j, b] - m * aj) / s
+                v[j, b] += c_g * aj
+                kd = (g[j, b] - c_mass * m * d) / c_stiffness
+                ku[j, b] += kd
+                kaj = a0 * kd
+                ka[j, b] = kaj
+                kv[j, b] += c_g * kaj
+                r[j, b] = (r[j, b] - m * aj) / s
         for b in range(active):
             if status[b] == STATUS_RUNNING and n_steps[b] >= step:
-                _finish_step(b, step, shared, runs, state, out, work)
+                _finish_step(b, step, scalars, shared, runs, state, out, work)
 
 
 @njit(cache=True)
@@ -358,8 +424,9 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
     path_nodes, uplift = runs[1], runs[5]
     pantograph_u, pv, pa, pantograph_r = state[4], state[5], state[6], state[7]
     status, fail_step, fail_residual, iterations = out[3], out[4], out[5], out[6]
-    u_pred, v_pred, delta, rhs, scale, phi_count, phi_column, phi_coefficient = work[:8]
-    linear, g, first_residual = work[11], work[12], work[13]
+    u_pred, v_pred, rhs = state[0], state[1], state[3]  # during the step: ũ, ṽ and α r_n
+    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
+    phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
     candidate_rows = shared[22]
     set_dofs, set_force, tangent, position = scratch[0], scratch[1], scratch[2], scratch[3]
     u_of, v_of, stretch, rate = scratch[6], scratch[7], scratch[8], scratch[9]
@@ -537,7 +604,7 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
             p_delta_lin[i] = 0.0
         for i in range(count):
             residual[i] = s * set_force[i]  # R/s = f0 on the set; the rest of r is set in _finish_step
-    work[14][b] = taken == 0
+    work[12][b] = taken == 0
     # φ's catenary part goes to the state update; the pantographs are updated here.
     c = 0
     for k in range(n_phi):
@@ -545,6 +612,7 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
         if m < n:
             phi_column[b, c] = column_of[m]
             phi_coefficient[b, c] = s * phi[k]
+            work[11][b, c] = m
             c += 1
         else:
             for i in range(n_p):
@@ -576,15 +644,33 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
 
 
 @njit(cache=True)
-def _finish_step(b, step, shared, runs, state, out, work):
-    """The catenary's share of the final residual in r_(n+1), the support uplift and the run's end."""
+def _finish_step(b, step, scalars, shared, runs, state, out, work):
+    """Per-run completion of the state update, the support uplift and the run's end.
+
+    Adds the final residual's share R/s to r_(n+1) on the nonlinear set and the −s φ part of g to
+    K δ (see :func:`advance`); a run that converged at its predictor has R = s f0 − g everywhere,
+    so r_(n+1) = (rhs − g)/s + f0.
+    """
+    s = 1.0 + scalars[3]
+    dt, newmark_beta, newmark_gamma = scalars[2], scalars[4], scalars[5]
+    a0 = 1.0 / (newmark_beta * dt * dt)
+    a1 = newmark_gamma / (newmark_beta * dt)
+    c_stiffness = s * (1.0 + a1 * scalars[1])
+    n = shared[2].shape[0]
     support_dofs = shared[18]
-    u, r = state[0], state[3]
+    u, r, ku, kv, ka = state[0], state[3], state[8], state[9], state[10]
     uplift_max, status = out[1], out[3]
-    res_count, res_dofs, res_value, linear, predictor = work[8], work[9], work[10], work[11], work[14]
+    g, phi_count, phi_coefficient = work[1], work[5], work[7]
+    res_count, res_dofs, res_value, phi_rows, predictor = work[8], work[9], work[10], work[11], work[12]
     if predictor[b]:
-        for j in range(u.shape[0]):
-            r[j, b] = linear[j, b]
+        for j in range(n):
+            r[j, b] -= g[j, b] / s
+    for k in range(phi_count[b]):
+        j = phi_rows[b, k]
+        kd = -phi_coefficient[b, k] / c_stiffness
+        ku[j, b] += kd
+        ka[j, b] += a0 * kd
+        kv[j, b] += newmark_gamma * dt * a0 * kd
     for i in range(res_count[b]):
         r[res_dofs[b, i], b] += res_value[b, i]
     for i in range(support_dofs.shape[0]):
@@ -593,3 +679,17 @@ def _finish_step(b, step, shared, runs, state, out, work):
             uplift_max[b] = value
     if step == runs[0][b]:
         status[b] = STATUS_OK
+
+
+def make_work(shared, n_runs):
+    """Per-step work arrays of a batch: δ, g, C ṽ + K ũ (n, runs); force scale and residual at the
+    predictor; φ (count, columns, s φ, rows); final residual on the set (count, rows, R/s); whether a
+    run converged at its predictor."""
+    n = shared[2].shape[0]
+    size = 3 * shared[9].shape[0] + 2 * shared[3].shape[0] + 6 * shared[16].shape[0] + 1
+    return (
+        np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros(n_runs), np.zeros(n_runs),
+        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
+        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
+        np.zeros((n_runs, size), dtype=np.int64), np.zeros(n_runs, dtype=np.bool_),
+    )

@@ -1,0 +1,283 @@
+"""The arrays of a batch for the compiled kernel: what all runs share, and each run's start and path.
+
+:class:`BatchSystem` holds what every run of :func:`~presag_opt.dynamics.batch.simulate_many` shares
+for one catenary, pantograph train and time step: the degrees of freedom in banded (reverse
+Cuthill–McKee) order, the row-wise bands of K and of the Cholesky factor of
+K_eff = a0 M + s (K + a1 C), the pantographs' small matrices, friction elements and droppers.
+:func:`integrate_batch` adds what one batch of runs needs (start states, contact paths, the columns
+of K_eff⁻¹ at every DOF a nonlinear force can reach) and runs :mod:`presag_opt.dynamics.kernel`.
+The interface (operating points, outcomes, statistics) is :mod:`presag_opt.dynamics.batch`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from presag_opt.dynamics import kernel
+from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, recorded_droppers, static_contact
+from presag_opt.dynamics.structure import StructuralModel
+from presag_opt.errors import ModelError
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.linalg import BandedSolver
+
+CHUNK_STEPS = 250
+"""Time steps per call of the compiled kernel: Ctrl-C is honoured between calls. [-]"""
+
+INFLUENCE_BLOCK = 64
+"""Unit right-hand sides solved together when the columns of K_eff⁻¹ are formed. [-]"""
+
+
+@dataclass(frozen=True)
+class BatchSystem:
+    """What every run of a batch shares (see the module notes).
+
+    Attributes
+    ----------
+    model : StructuralModel
+        The catenary's structural model.
+    order : ndarray of int
+        Model DOF at each banded position.
+    position : ndarray of int
+        Banded position of each model DOF.
+    scalars : ndarray
+        The kernel's scalars (:data:`presag_opt.dynamics.kernel.SCALARS`).
+    fixed : dict
+        The kernel's shared arrays that do not depend on the batch, by name
+        (:data:`presag_opt.dynamics.kernel.SHARED`).
+    """
+
+    model: StructuralModel
+    order: np.ndarray
+    position: np.ndarray
+    scalars: np.ndarray
+    fixed: dict
+
+    @classmethod
+    def build(
+        cls, model: StructuralModel, pantographs: tuple[Pantograph, ...], settings: SimulationSettings
+    ) -> BatchSystem:
+        """Order, factorise and lay out the shared system.
+
+        Parameters
+        ----------
+        model : StructuralModel
+            The catenary.
+        pantographs : tuple of Pantograph
+            The train, front to rear.
+        settings : SimulationSettings
+            Time step, scheme, tolerances and friction regularisation.
+
+        Raises
+        ------
+        ModelError
+            If K_eff is not positive definite.
+        """
+        integ = settings.integrator
+        alpha = integ.hht_alpha if integ.scheme == "hht" else 0.0
+        beta, gamma, dt = (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha, integ.time_step
+        s, a0, a1 = 1.0 + alpha, 1.0 / (beta * dt**2), gamma / (beta * dt)
+        effective = (a0 * model.mass + s * (model.stiffness + a1 * model.damping)).tocsc()
+        effective.sort_indices()
+        ordering = BandedSolver.for_pattern(effective)
+        order = ordering.permutation
+        position = np.empty_like(order)
+        position[order] = np.arange(len(order))
+        try:
+            factor = sla.cholesky_banded(_lower_band(effective, order, ordering.bandwidth), lower=True,
+                                         check_finite=False)
+        except np.linalg.LinAlgError:
+            raise ModelError("the effective matrix a0 M + s (K + a1 C) is not positive definite: check the model") from None
+
+        n = model.n_dofs
+        offsets = np.concatenate([[0], np.cumsum([p.n_dofs for p in pantographs])[:-1]]).astype(np.int64)
+        mass = sp.block_diag([p.mass_matrix() for p in pantographs]).toarray()
+        damping = sp.block_diag([p.damping_matrix() for p in pantographs]).toarray()
+        stiffness = sp.block_diag([p.stiffness_matrix() for p in pantographs]).toarray()
+        friction_dofs, friction_levels = [], []
+        for p, offset in zip(pantographs, offsets):
+            for i, stage in enumerate(p.stages):
+                if stage.friction > 0.0:  # element between stage i and the stage below (or the car body)
+                    friction_dofs.append((n + offset + i, n + offset + i + 1 if i + 1 < p.n_dofs else -1))
+                    friction_levels.append(stage.friction)
+        d = model.droppers
+        cw_height = np.zeros(n)
+        cw_height[position[model.cw_z]] = model.cw_height
+        fixed = {
+            # The kernel reads a row's band entries together: the bands are stored row by row.
+            "stiffness_band": np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T),
+            "factor_band": np.ascontiguousarray(factor.T),
+            "mass": model.mass.diagonal()[order].copy(),
+            "pantograph_mass": mass.diagonal().copy(),
+            "pantograph_damping": damping,
+            "pantograph_stiffness": stiffness,
+            "pantograph_inverse": np.linalg.inv(a0 * mass + s * (stiffness + a1 * damping)),
+            "head_dof": n + offsets,
+            "contact_stiffness": np.array([p.contact.stiffness for p in pantographs]),
+            "friction_dofs": np.array(friction_dofs, dtype=np.int64).reshape(-1, 2),
+            "friction_levels": np.array(friction_levels, dtype=float),
+            "dropper_dofs": position[d.dofs].astype(np.int64),
+            "dropper_gradient": np.ascontiguousarray(d.gradient, dtype=float),
+            "dropper_stiffness": np.asarray(d.axial_stiffness, dtype=float).copy(),
+            "dropper_preload": np.asarray(d.preload, dtype=float).copy(),
+            "cw_height": cw_height,
+        }
+        scalars = np.array([
+            model.rayleigh_alpha, model.rayleigh_beta, dt, alpha, beta, gamma, integ.tolerance,
+            integ.max_iterations, settings.friction.velocity,
+        ])
+        return cls(model, order, position, scalars, fixed)
+
+
+@dataclass(frozen=True)
+class BatchRecords:
+    """What the kernel recorded for each run of a batch (arrays indexed by run).
+
+    Attributes
+    ----------
+    n_steps : ndarray of int
+        Time steps of each run.
+    contact_force : ndarray, shape (n_runs, n_pantographs, n_records)
+        Raw contact force at every record time. [N]
+    uplift_max : ndarray
+        Largest uplift at the analysed section's supports. [m]
+    slack_max : ndarray of int
+        Most recorded droppers slack at once.
+    status : ndarray of int
+        :data:`~presag_opt.dynamics.kernel.STATUS_OK` or the reason the run stopped.
+    fail_step : ndarray of int
+        Step at which a failed run stopped.
+    fail_residual : ndarray
+        Its last Newton residual. [N]
+    iterations : ndarray of int
+        Newton corrections taken.
+    """
+
+    n_steps: np.ndarray
+    contact_force: np.ndarray
+    uplift_max: np.ndarray
+    slack_max: np.ndarray
+    status: np.ndarray
+    fail_step: np.ndarray
+    fail_residual: np.ndarray
+    iterations: np.ndarray
+
+
+def integrate_batch(
+    state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings
+) -> BatchRecords:
+    """Integrate one batch of runs on a shared system.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The form-found catenary.
+    system : BatchSystem
+        Its shared arrays.
+    plans : list of RunPlan
+        The runs, sorted by step count, longest first (the kernel's active runs form a prefix).
+    settings : SimulationSettings
+        As for :meth:`BatchSystem.build`.
+
+    Returns
+    -------
+    BatchRecords
+    """
+    model = system.model
+    dt = settings.integrator.time_step
+    n = model.n_dofs
+    n_runs, n_pan = len(plans), len(plans[0].pantographs)
+    n_steps = np.array([p.step_count(dt) for p in plans], dtype=np.int64)
+    longest = int(n_steps.max())
+    path_nodes = np.zeros((n_runs, n_pan, longest + 1, 2), dtype=np.int64)
+    path_weights = np.zeros((n_runs, n_pan, longest + 1, 2))
+    path_compliance = np.zeros((n_runs, n_pan, longest + 1))
+    head_height = np.zeros((n_runs, n_pan))
+    u = np.zeros((n, n_runs))
+    for b, plan in enumerate(plans):
+        records = slice(0, n_steps[b] + 1)
+        u0, paths = static_contact(state, model, plan, dt * np.arange(n_steps[b] + 1))
+        u[:, b] = u0[system.order]
+        for p, path in enumerate(paths):
+            path_nodes[b, p, records] = system.position[model.cw_z[path.nodes]]
+            path_weights[b, p, records] = path.weights
+            path_compliance[b, p, records] = path.compliance
+            head_height[b, p] = path.head_height
+
+    # Columns of K_eff⁻¹ at every DOF a nonlinear force can reach: the contact path and the droppers.
+    fixed = system.fixed
+    candidates = np.unique(np.concatenate([path_nodes.ravel(), fixed["dropper_dofs"].ravel()]))
+    column_of = np.full(n, -1, dtype=np.int64)
+    column_of[candidates] = np.arange(len(candidates))
+    columns = _influence_columns(fixed["factor_band"], candidates)
+    is_candidate = np.zeros(n, dtype=np.bool_)
+    is_candidate[candidates] = True
+    recorded = np.zeros(len(model.droppers), dtype=np.bool_)
+    recorded[recorded_droppers(model, plans[0].analysed_section, settings)] = True
+    station = state.discretisation.mast_station
+    start, end = plans[0].analysed_section
+    supports = np.flatnonzero((station >= start - 1e-9) & (station <= end + 1e-9))
+    shared = dict(
+        fixed,
+        column_of=column_of,
+        columns=columns,
+        dropper_recorded=recorded,
+        support_dofs=system.position[model.support_z[supports]].astype(np.int64),
+        stretch_influence=np.ascontiguousarray(
+            np.einsum("cdk,dk->cd", columns[:, fixed["dropper_dofs"]], fixed["dropper_gradient"])
+        ),
+        candidate=is_candidate,
+        candidate_rows=candidates.astype(np.int64),
+    )
+    shared = tuple(shared[name] for name in kernel.SHARED)
+    uplift = np.array([p.operation.uplift_force for p in plans])
+    runs = (n_steps, path_nodes, path_weights, path_compliance, head_height, uplift)
+    n_p = len(fixed["pantograph_mass"])
+    catenary = [np.zeros((n, n_runs)) for _ in range(6)]
+    pantograph = [np.zeros((n_p, n_runs)) for _ in range(4)]
+    run_state = (u, *catenary[:3], *pantograph, *catenary[3:])
+    records = BatchRecords(
+        n_steps=n_steps,
+        contact_force=np.zeros((n_runs, n_pan, longest + 1)),
+        uplift_max=np.zeros(n_runs),
+        slack_max=np.zeros(n_runs, dtype=np.int64),
+        status=np.zeros(n_runs, dtype=np.int64),
+        fail_step=np.zeros(n_runs, dtype=np.int64),
+        fail_residual=np.zeros(n_runs),
+        iterations=np.zeros(n_runs, dtype=np.int64),
+    )
+    out = (records.contact_force, records.uplift_max, records.slack_max, records.status, records.fail_step,
+           records.fail_residual, records.iterations)
+    scratch = kernel.make_scratch(shared)
+    work = kernel.make_work(shared, n_runs)
+    kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
+    for first in range(1, longest + 1, CHUNK_STEPS):
+        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), system.scalars, shared, runs, run_state, out,
+                       work, scratch)
+    return records
+
+
+def _lower_band(matrix: sp.csc_matrix, order: np.ndarray, bandwidth: int) -> np.ndarray:
+    """Lower band of a symmetric matrix in the given order: band[k, j] = A[j + k, j]."""
+    permuted = sp.coo_matrix(matrix[order][:, order])
+    lower = (permuted.row >= permuted.col) & (permuted.data != 0.0)  # stored zeros may lie outside the band
+    band = np.zeros((bandwidth + 1, matrix.shape[0]))
+    np.add.at(band, (permuted.row[lower] - permuted.col[lower], permuted.col[lower]), permuted.data[lower])
+    return band
+
+
+def _influence_columns(factor_band: np.ndarray, dofs: np.ndarray) -> np.ndarray:
+    """Columns K_eff⁻¹ e_j for the banded positions ``dofs``, one per row. [m/N]"""
+    n = factor_band.shape[0]
+    out = np.empty((len(dofs), n))
+    for start in range(0, len(dofs), INFLUENCE_BLOCK):
+        block = dofs[start : start + INFLUENCE_BLOCK]
+        unit = np.zeros((n, len(block)))
+        unit[block, np.arange(len(block))] = 1.0
+        kernel.band_cholesky_solve(factor_band, unit, len(block))
+        out[start : start + len(block)] = unit.T
+    return out
