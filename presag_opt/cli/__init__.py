@@ -12,7 +12,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from presag_opt.cli import common, dynamics, presag, robust, static
+from presag_opt.cli import common, dynamics, presag, robust, static, studies
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -27,7 +27,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMAND_MODULES = [static, presag, robust, dynamics]
+COMMAND_MODULES = [static, presag, robust, dynamics, studies]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
