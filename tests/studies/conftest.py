@@ -2,11 +2,8 @@
 
 from __future__ import annotations
 
-import dataclasses
-import math
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
@@ -70,3 +67,9 @@ def synthetic_dataset(*, sigma, presags_mm, betas, static_forces, rule_mm, uplif
             presag_delta_e=tuple(rule), presag_mid_mast=tuple(0.8 * r for r in rule), rule_failure="",
         ))
     return assemble(definition, results)
+
+
+@pytest.fixture(scope="session")
+def make_dataset():
+    """The :func:`synthetic_dataset` builder."""
+    return synthetic_dataset
