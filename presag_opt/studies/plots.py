@@ -57,13 +57,27 @@ def save_validity_plots(dataset: xr.Dataset, result: ValidityResult, folder: str
     ]
 
 
+LEGEND_WIDTH = 2.8
+"""Width kept free for a figure legend right of the axes. [inch]"""
+
+
 def _grid(count: int) -> tuple[plt.Figure, np.ndarray]:
+    """Panels in rows of up to four, with room for a legend right of them."""
     cols = min(count, 4)
     rows = math.ceil(count / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols + 2.2, 3.0 * rows), squeeze=False, sharey=True)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols + LEGEND_WIDTH, 3.0 * rows), squeeze=False,
+                             sharey=True)
     for ax in axes.flat[count:]:
         ax.set_visible(False)
     return fig, axes
+
+
+def _legend_right(fig: plt.Figure, ax: plt.Axes, title: str | None = None) -> None:
+    """A figure legend in the free strip right of the axes, never over data."""
+    room = LEGEND_WIDTH / fig.get_figwidth()
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0 - room, 0.5), title=title)
+    fig.tight_layout(rect=(0, 0, 1.0 - room, 1))
 
 
 def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
@@ -83,9 +97,7 @@ def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
         ax.grid(True, alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("σ / F_m [-]")
-    handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="center right", title="× distinct minimum")
-    fig.tight_layout(rect=(0, 0, 0.85, 1))
+    _legend_right(fig, axes.flat[0], title="× distinct minimum")
     return _save(fig, path)
 
 
@@ -106,14 +118,12 @@ def _fig7(result: ValidityResult, path: Path) -> Path:
         ax.grid(True, alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("pre-sag S [mm]")
-    handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="center right")
-    fig.tight_layout(rect=(0, 0, 0.84, 1))
+    _legend_right(fig, axes.flat[0])
     return _save(fig, path)
 
 
 def _fig8(result: ValidityResult, path: Path) -> Path:
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(8 + LEGEND_WIDTH, 4.2), sharey=True)
     presags = sorted({o.presag for o in result.force_optima})
     for s in presags:
         points = [o for o in result.force_optima if o.presag == s]
@@ -127,9 +137,7 @@ def _fig8(result: ValidityResult, path: Path) -> Path:
         ax.set_xlabel("β = v / c_CW [-]")
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("optimal F_m [N]")
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="center right")
-    fig.tight_layout(rect=(0, 0, 0.86, 1))
+    _legend_right(fig, axes[0])
     return _save(fig, path)
 
 
