@@ -28,7 +28,7 @@ import xarray as xr
 
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition
-from presag_opt.studies.work import RULE_METHODS, STATISTICS, UnitResult, WorkUnit
+from presag_opt.studies.work import UnitResult, WorkUnit
 
 ENGINE = "h5netcdf"
 MANIFEST = "study.json"

@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import xarray as xr
 
 from presag_opt.errors import ModelError
 from presag_opt.studies.store import write_store
