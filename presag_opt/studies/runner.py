@@ -129,15 +129,16 @@ def _local_results(definition: StudyDefinition, pending: list[WorkUnit], workers
     if not pending:
         return
     count = min(int(workers or os.cpu_count() or 1), len(pending))
-    context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=count, mp_context=context) as pool:
-        futures = [pool.submit(run_unit, definition, unit) for unit in pending]
-        try:
-            for future in as_completed(futures):
-                yield future.result()
-        finally:  # on an error or interrupt, do not wait for units nobody will store
-            for future in futures:
-                future.cancel()
+    pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+    futures = [pool.submit(run_unit, definition, unit) for unit in pending]
+    try:
+        for future in as_completed(futures):
+            yield future.result()
+    except BaseException:
+        # An error or an interrupt: drop the queued units instead of waiting for them to finish.
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address: object) -> Iterator[UnitResult]:

@@ -102,11 +102,14 @@ def check_store(store: Path, definition: StudyDefinition) -> None:
 def prepare_units(store: Path, definition: StudyDefinition) -> Path:
     """Create the units directory and its manifest if missing; remove stray temporary files.
 
+    Temporaries are left only by a study killed while writing: those of units in the units
+    directory, and those of the store beside it.
+
     Call after :func:`check_store`. Returns the units directory.
     """
     folder = units_directory(store)
     folder.mkdir(parents=True, exist_ok=True)
-    for stray in folder.glob(f"*{TEMPORARY_SUFFIX}"):
+    for stray in [*folder.glob(f"*{TEMPORARY_SUFFIX}"), *store.parent.glob(f"{store.name}.*{TEMPORARY_SUFFIX}")]:
         stray.unlink()
     manifest = folder / MANIFEST
     if not manifest.exists():

@@ -119,3 +119,17 @@ def test_dask_local_cluster_gives_the_same_store(small_study, reference_store, t
                                   dashboard_address=None) as cluster:
         run_study(small_study, store, scheduler=cluster.scheduler_address, progress=False)
     assert_same_store(store, reference_store)
+
+
+@pytest.mark.slow
+def test_paper_grid_runs_and_is_analysed(tmp_path):
+    """The full 400-run study (tens of minutes with today's engine): every run finishes and the analysis
+    gives its verdict at every speed of the grid."""
+    from presag_opt.studies.validity import validity_analysis
+
+    store = tmp_path / "paper.nc"
+    outcome = run_study(load_study("paper_grid_st98"), store, workers=2, progress=False)
+    assert outcome.runs_total == 400 and outcome.runs_failed == 0
+    result = validity_analysis(open_store(store))
+    assert len(result.per_beta) == 10 and result.criterion
+    assert result.uplift is not None
