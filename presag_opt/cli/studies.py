@@ -27,7 +27,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help=f"study file or built-in name (default {DEFAULT_STUDY})")
     p.add_argument("--out", metavar="PATH", required=True, help="netCDF store to write (e.g. study.nc)")
     p.add_argument("--workers", metavar="N", type=int, default=None,
-                   help="local worker processes (default: the CPU count)")
+                   help="local worker processes (default: the CPU count; not with --scheduler)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run on instead (e.g. tcp://host:8786)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

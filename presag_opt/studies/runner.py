@@ -78,7 +78,7 @@ def run_study(
         Output netCDF file; its units directory is ``<store>.units`` beside it.
     workers : int, optional
         Local worker processes; default: the CPU count (at most the number of pending units).
-        Ignored with ``scheduler``.
+        Not with ``scheduler``.
     scheduler : str, optional
         Address of a Dask distributed scheduler (e.g. ``tcp://10.0.0.5:8786``) to run the units on.
     progress : bool, optional
@@ -95,6 +95,8 @@ def run_study(
         is changed on disk).
     """
     store = Path(store)
+    if workers is not None and scheduler is not None:
+        raise ModelError("give either local workers or a Dask scheduler, not both")
     if workers is not None and not 1 <= workers <= 1024:
         raise ModelError(f"workers = {workers} is outside the valid range [1, 1024]")
     if not store.parent.is_dir():
