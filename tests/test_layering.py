@@ -23,12 +23,13 @@ LAYERS = {
     "design": 5,
     "dynamics": 5,
     "robust": 6,
+    "studies": 6,
     "validation": 7,
     "plotting": 8,
     "cli": 9,
 }
 """Layer of each part of the package (its first component below ``presag_opt``): a part may import
-only parts of lower layers, and parts of one layer (design, dynamics) not each other."""
+only parts of lower layers, and parts of one layer (design and dynamics; robust and studies) not each other."""
 
 
 def _module_name(path: Path) -> str:

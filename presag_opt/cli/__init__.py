@@ -12,7 +12,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from presag_opt.cli import common, dynamics, presag, robust, static, validation
+from presag_opt.cli import common, dynamics, presag, robust, static, studies, validation
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -27,7 +27,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMAND_MODULES = [static, presag, robust, dynamics, validation]
+COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -1,0 +1,244 @@
+"""Work units of a study and the pure function that computes one.
+
+A unit is one (extra-parameter combination, pre-sag, speed): all static forces of the grid at that
+speed run in one :func:`~presag_opt.dynamics.batch.simulate_many` call, because runs at one speed
+share the contact path on one form-found catenary. :func:`run_unit` is the only function a worker
+runs, locally or on a Dask cluster; it depends on its arguments alone (the module-level cache only
+saves recomputing a form-found state) and returns a plain :class:`UnitResult` that the parent
+writes to disk.
+
+Besides the dynamic statistics, a unit computes the quasi-static pre-sag of the Δe and mid/mast
+rules at each run's nominal mean contact force F_m = F_stat + α_ae v², from the elasticity of the
+catenary built with the unit's pre-sag (the analysis needs the rule on the same geometry family as
+the dynamic runs).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import OrderedDict
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.design.band import force_levels_for_band
+from presag_opt.design.section import SectionElasticity, section_elasticity
+from presag_opt.speed import speed_ratio
+from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.studies.definition import StudyDefinition
+from presag_opt.system.catenary import Catenary
+
+CACHE_SIZE = 4
+"""Form-found states a worker keeps: units arrive sorted by pre-sag, so a few suffice. [-]"""
+
+RULE_METHODS = {"presag_delta_e": "delta-e", "presag_mid_mast": "mid-mast"}
+"""Result field of each quasi-static rule, and the rule's method name in :mod:`presag_opt.design.quasi_static`."""
+
+_CACHE: OrderedDict[Any, tuple[EquilibriumState, SectionElasticity | str]] = OrderedDict()
+_CACHE_LOCK = threading.Lock()  # a Dask worker may run several units in threads
+
+
+@dataclass(frozen=True, kw_only=True, order=True)
+class WorkUnit:
+    """One unit of a study: an extra-parameter combination, a pre-sag and a speed.
+
+    Attributes
+    ----------
+    parameter_indices : tuple of int
+        Index into each extra parameter's values.
+    presag_index : int
+        Index into the grid's pre-sags.
+    speed_index : int
+        Index into the grid's speeds.
+    """
+
+    parameter_indices: tuple[int, ...]
+    presag_index: int
+    speed_index: int
+
+    @property
+    def key(self) -> str:
+        """File-name stem of the unit, unique in its study, e.g. ``p0-1_s2_v5``."""
+        extra = "p" + "-".join(map(str, self.parameter_indices)) + "_" if self.parameter_indices else ""
+        return f"{extra}s{self.presag_index}_v{self.speed_index}"
+
+
+@dataclass(frozen=True, kw_only=True)
+class UnitResult:
+    """Results of one unit, one entry per static force of the grid (front pantograph).
+
+    Attributes
+    ----------
+    unit : WorkUnit
+        The unit.
+    mean_force, std_force, statistical_max, statistical_min, max_force, min_force : tuple of float
+        Contact-force statistics (NaN where the run failed). [N]
+    loss_of_contact : tuple of float
+        Share of the analysis window without contact. [-]
+    uplift_max : tuple of float
+        Largest steady-arm uplift. [m]
+    speed_ratio : float
+        β = v / c_CW of the unit's speed. [-]
+    failure : tuple of str
+        Why each run failed; empty where it finished.
+    presag_delta_e, presag_mid_mast : tuple of float
+        Quasi-static pre-sag of the Δe and mid/mast rules at each nominal F_m (NaN if the rule
+        could not be evaluated; see ``rule_failure``). [m]
+    rule_failure : str
+        Why the rules could not be evaluated; empty if they were.
+    """
+
+    unit: WorkUnit
+    mean_force: tuple[float, ...]
+    std_force: tuple[float, ...]
+    statistical_max: tuple[float, ...]
+    statistical_min: tuple[float, ...]
+    max_force: tuple[float, ...]
+    min_force: tuple[float, ...]
+    loss_of_contact: tuple[float, ...]
+    uplift_max: tuple[float, ...]
+    speed_ratio: float
+    failure: tuple[str, ...]
+    presag_delta_e: tuple[float, ...]
+    presag_mid_mast: tuple[float, ...]
+    rule_failure: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready content (floats round-trip exactly through JSON)."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> UnitResult:
+        """Inverse of :meth:`to_dict`."""
+        values = {f.name: data[f.name] for f in fields(cls)}
+        unit = values.pop("unit")
+        unit = WorkUnit(parameter_indices=tuple(unit["parameter_indices"]), presag_index=unit["presag_index"],
+                        speed_index=unit["speed_index"])
+        return cls(unit=unit, **{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
+
+
+STATISTICS = ("mean_force", "std_force", "statistical_max", "statistical_min", "max_force", "min_force",
+              "loss_of_contact")
+"""Fields of :class:`~presag_opt.dynamics.statistics.ContactForceStatistics` a unit keeps."""
+
+
+def all_units(definition: StudyDefinition) -> list[WorkUnit]:
+    """Every unit of a study, sorted so that units sharing a form-found state come together."""
+    return sorted(
+        WorkUnit(parameter_indices=variant.indices, presag_index=s, speed_index=v)
+        for variant in definition.variants()
+        for s in range(len(definition.grid.presags))
+        for v in range(len(definition.grid.speeds))
+    )
+
+
+def nominal_mean_force(definition: StudyDefinition, speed: float, static_force: float) -> float:
+    """F_m = F_stat + α_ae v², the force the quasi-static rules are evaluated at. [N]
+
+    Parameters
+    ----------
+    definition : StudyDefinition
+        The study (its aerodynamic coefficient).
+    speed : float
+        Train speed. [m/s]
+    static_force : float
+        Static uplift force. [N]
+    """
+    return static_force + definition.grid.aero_coefficient * speed**2
+
+
+def run_unit(definition: StudyDefinition, unit: WorkUnit) -> UnitResult:
+    """Compute one unit: all static forces at one pre-sag and speed, and the quasi-static rules.
+
+    Parameters
+    ----------
+    definition : StudyDefinition
+        The study.
+    unit : WorkUnit
+        The unit to compute.
+
+    Returns
+    -------
+    UnitResult
+        Statistics per static force; a run (or the whole unit, if its catenary cannot be
+        form-found) that fails is NaN with its reason.
+    """
+    grid = definition.grid
+    variant = definition.variant(unit.parameter_indices)
+    presag = grid.presags[unit.presag_index]
+    speed = grid.speeds[unit.speed_index]
+    catenary = variant.catenary.with_presag(presag / max(variant.catenary.layout.span_lengths))
+    n = len(grid.static_forces)
+    nan = (math.nan,) * n
+    base = {"unit": unit, "speed_ratio": speed_ratio(speed, catenary.contact_wire.wave_speed)}
+    try:
+        state, section = _form_found(definition, catenary, variant.settings)
+    except (ConvergenceError, ModelError) as exc:
+        reason = f"form-finding: {str(exc).splitlines()[0]}"
+        return UnitResult(**base, **{name: nan for name in (*STATISTICS, "uplift_max", *RULE_METHODS)},
+                          failure=(reason,) * n, rule_failure=reason)
+    points = [OperatingPoint(speed=speed, static_force=f, aero_coefficient=grid.aero_coefficient)
+              for f in grid.static_forces]
+    batch = simulate_many(state, variant.pantograph, points, settings=variant.settings)
+    stats = {name: tuple(getattr(r.statistics[0], name) if r.ok else math.nan for r in batch.runs)
+             for name in STATISTICS}
+    rules, rule_failure = _rules(definition, section, catenary, speed)
+    return UnitResult(
+        **base, **stats, **rules,
+        uplift_max=tuple(r.uplift_max if r.ok else math.nan for r in batch.runs),
+        failure=tuple(r.error or "" for r in batch.runs),
+        rule_failure=rule_failure,
+    )
+
+
+def _rules(definition: StudyDefinition, section: SectionElasticity | str, catenary: Catenary,
+           speed: float) -> tuple[dict[str, tuple[float, ...]], str]:
+    """Quasi-static pre-sag of each rule at each nominal F_m, as the mid-span pre-sag of the longest span.
+
+    ``section`` is the reason instead when the elasticity could not be computed.
+    """
+    longest = max(catenary.layout.span_lengths)
+    forces = [nominal_mean_force(definition, speed, f) for f in definition.grid.static_forces]
+    try:
+        if isinstance(section, str):
+            raise ModelError(section)
+        rules = {name: tuple(section.presag(f, method).presag_rel_mean * longest for f in forces)
+                 for name, method in RULE_METHODS.items()}
+    except (ConvergenceError, ModelError) as exc:
+        return {name: (math.nan,) * len(forces) for name in RULE_METHODS}, str(exc).splitlines()[0]
+    return rules, ""
+
+
+def _force_levels(definition: StudyDefinition) -> tuple[float, ...]:
+    """Elasticity force levels that bracket every nominal F_m of the study. [N]"""
+    grid = definition.grid
+    forces = [nominal_mean_force(definition, v, f) for v in grid.speeds for f in grid.static_forces]
+    return force_levels_for_band(min(forces), max(forces))
+
+
+def _form_found(
+    definition: StudyDefinition, catenary: Catenary, settings: SimulationSettings
+) -> tuple[EquilibriumState, SectionElasticity | str]:
+    """The form-found state and its elasticity curves (or why they failed), cached in this process.
+
+    A failing form-finding raises (every run of the unit fails); failing elasticity only leaves the
+    rules undefined, so its reason is returned in place of the curves.
+    """
+    key = (catenary, settings.static, _force_levels(definition))
+    with _CACHE_LOCK:
+        if key in _CACHE:
+            _CACHE.move_to_end(key)
+            return _CACHE[key]
+    state = form_find(catenary, settings.static)
+    try:
+        section: SectionElasticity | str = section_elasticity(state, force_levels=key[2])
+    except (ConvergenceError, ModelError) as exc:
+        section = f"elasticity: {str(exc).splitlines()[0]}"
+    with _CACHE_LOCK:
+        _CACHE[key] = (state, section)
+        while len(_CACHE) > CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return state, section
