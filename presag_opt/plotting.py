@@ -152,6 +152,34 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
     return _save(fig, path)
 
 
+def plot_batch_statistics(batch, path: str | Path) -> Path:
+    """σ/F_m and σ against speed, one line per static force, for a batch of runs.
+
+    Parameters
+    ----------
+    batch : presag_opt.dynamics.batch.BatchResult
+        Runs on a grid of speeds × static forces (failed runs are left out).
+    path : str or Path
+        Output file; the suffix selects the format (png, pdf, svg).
+    """
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    forces = sorted({r.point.static_force for r in batch.runs})
+    for i, force in enumerate(forces):
+        runs = sorted((r for r in batch.runs if r.ok and r.point.static_force == force), key=lambda r: r.point.speed)
+        speed = [r.point.speed * 3.6 for r in runs]
+        top.plot(speed, [r.statistics[0].sigma_over_mean for r in runs], "o-", color=f"C{i}", label=f"{force:g} N")
+        bottom.plot(speed, [r.statistics[0].std_force for r in runs], "o-", color=f"C{i}")
+    top.set_ylabel("σ/F_m [-]")
+    bottom.set_ylabel("σ [N]")
+    bottom.set_xlabel("speed [km/h]")
+    top.set_title(f"{batch.catenary_name}: contact-force statistics ({batch.pantograph_names[0]})", fontsize=9)
+    for ax in (top, bottom):
+        ax.grid(True, alpha=0.3)
+    top.legend(title="F_stat", fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    return _save(fig, path)
+
+
 def plot_waviness(study, path: str | Path) -> Path:
     """Worst-case and per-force waviness R against the parabolic pre-sag S over the band.
 

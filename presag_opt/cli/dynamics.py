@@ -6,7 +6,7 @@ import argparse
 import dataclasses
 import sys
 
-from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import EXIT_NOT_CONVERGED, add_json_flag, float_list, positive_float, print_json, table
 from presag_opt.cli.static import add_element_flag
 from typing import TYPE_CHECKING
 
@@ -47,7 +47,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--speed", metavar="KMH", type=float_list, default=None,
         help="train speed in km/h, or several comma-separated (default with --case: the case's speeds)",
     )
-    p.add_argument("--static-force", metavar="N", type=positive_float, default=None, help="static uplift force in N")
+    p.add_argument(
+        "--static-force", metavar="N", type=float_list, default=None,
+        help="static uplift force in N, or several comma-separated (default with --case: the case's force)",
+    )
     p.add_argument(
         "--aero", metavar="N_per_kmh2", type=positive_float, default=None,
         help="aerodynamic uplift coefficient in N/(km/h)^2: F_m = F_stat + aero*v^2 (default 0, or the case's)",
@@ -67,44 +70,77 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "newmark: average acceleration",
     )
     add_element_flag(p)
-    p.add_argument("--plot", metavar="FILE", default=None, help="save contact force against position (PNG, PDF or SVG)")
+    p.add_argument(
+        "--plot", metavar="FILE", default=None,
+        help="save a figure (PNG, PDF or SVG): contact force against position for one run, "
+        "σ/F_m against speed for several",
+    )
     add_json_flag(p)
     p.set_defaults(handler=simulate_command)
 
 
 def simulate_command(args: argparse.Namespace) -> int:
-    """Handler of ``presag simulate``."""
+    """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
+    for flag, values in (("--speed", args.speed), ("--static-force", args.static_force)):
+        if values is not None and not values:
+            raise ModelError(f"{flag}: give at least one value (comma-separated)")
     case = _case(args)
     speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
-    if not speeds:
-        raise ModelError("--speed: give at least one speed in km/h")
+    forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = dataclasses.replace(
         case.settings,
         integrator=dataclasses.replace(SCHEMES[args.scheme], time_step=args.time_step * 1e-3),
         static=StaticSettings(element_length=args.element_length),
     )
     for speed in speeds:  # every input is checked before the form-finding starts
-        case.plan(speed, settings)
+        for force in forces:
+            dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force)).plan(
+                speed, settings)
     state = form_find(case.catenary, settings.static)
-    results = []
-    for speed in speeds:
-        if not args.json:
-            print(f"simulating {speed * 3.6:g} km/h ...", file=sys.stderr, flush=True)
-        results.append(case.run(speed, state=state, settings=settings))
+    if len(speeds) == 1 and len(forces) == 1:
+        return _single_run(args, dataclasses.replace(
+            case, operation=dataclasses.replace(case.operation, static_force=forces[0])), speeds[0], state, settings)
+    return _batch(args, case, speeds, forces, state, settings)
+
+
+def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, state, settings) -> int:
+    result = case.run(speed, state=state, settings=settings)
     if args.plot:
         from presag_opt.plotting import plot_contact_force
 
-        plot_contact_force(results, args.plot)
+        plot_contact_force([result], args.plot)
     if args.json:
-        if len(results) == 1:
-            print_json(results[0].to_dict())
-        else:
-            print_json({"case": case.name, "runs": [r.to_dict() for r in results]})
+        print_json(result.to_dict())
         return 0
-    _print_table(case, results)
+    _print_table(case, [result])
     if args.plot:
         print(f"\nPlot saved to {args.plot}")
     return 0
+
+
+def _batch(args: argparse.Namespace, case: SimulationCase, speeds, forces, state, settings) -> int:
+    from tqdm import tqdm
+
+    from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+
+    points = [
+        OperatingPoint(speed=v, static_force=f, aero_coefficient=case.operation.aero_coefficient)
+        for v in speeds for f in forces
+    ]
+    with tqdm(total=len(points), desc="simulating", unit="run", file=sys.stderr, disable=None) as bar:
+        batch = simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings,
+                              progress=bar.update)
+    if args.plot:
+        from presag_opt.plotting import plot_batch_statistics
+
+        plot_batch_statistics(batch, args.plot)
+    if args.json:
+        print_json({"case": case.name, **batch.to_dict()})
+        return 0
+    _print_batch_table(case, batch)
+    if args.plot:
+        print(f"\nPlot saved to {args.plot}")
+    return 0 if not batch.failed else EXIT_NOT_CONVERGED
 
 
 def _case(args: argparse.Namespace) -> SimulationCase:
@@ -128,7 +164,7 @@ def _case(args: argparse.Namespace) -> SimulationCase:
             description="",
             catenary=catenary,
             pantograph=load_pantograph(args.pantograph),
-            operation=Operation(speed=args.speed[0] / 3.6, static_force=args.static_force),
+            operation=Operation(speed=args.speed[0] / 3.6, static_force=args.static_force[0]),
             speeds=tuple(v / 3.6 for v in args.speed),
             settings=SimulationSettings(),
         )
@@ -138,7 +174,7 @@ def _case(args: argparse.Namespace) -> SimulationCase:
             case = dataclasses.replace(case, pantograph=load_pantograph(args.pantograph))
     changes = {}
     if args.static_force is not None:
-        changes["static_force"] = args.static_force
+        changes["static_force"] = args.static_force[0]
     if args.aero is not None:
         changes["aero_coefficient"] = args.aero * 3.6**2
     if args.spacing is not None:
@@ -189,3 +225,37 @@ def _print_table(case: SimulationCase, results: list[SimulationResult]) -> None:
                   p.statistics.min_force, 100 * p.statistics.loss_of_contact) for p in r.pantographs],
                 ["{:g}", "{:.1f}", "{:.2f}", "{:.1f}", "{:.1f}", "{:.2f}"],
             ))
+
+
+def _print_batch_table(case: SimulationCase, batch) -> None:
+    settings = batch.settings
+    first = batch.runs[0]
+    start, end = first.analysed_section
+    print(f"Dynamic simulation: {case.name}")
+    print(
+        f"catenary: {batch.catenary_name}; pantograph: {case.pantograph.name}; "
+        f"aero {case.operation.aero_coefficient / 3.6**2:g} N/(km/h)^2; {len(batch.runs)} runs in {batch.wall_time:.1f} s"
+    )
+    print(
+        f"analysed: spans {first.analysed_spans[0] + 1}-{first.analysed_spans[-1] + 1} ({start:g}-{end:g} m), "
+        f"filter {settings.cutoff_frequency:g} Hz, time step {settings.integrator.time_step * 1e3:g} ms, "
+        f"contact-wire wave speed {first.wave_speed * 3.6:.0f} km/h\n"
+    )
+    keys = dict(catenary=batch.catenary_name, pantograph=case.pantograph.name, time_step=settings.integrator.time_step)
+    rows = []
+    for run in batch.runs:
+        d = run.to_dict(**keys)
+        rows.append((
+            d["speed_kmh"], d["static_force_N"], d["beta"], d.get("Fm_N"), d.get("sigma_N"), d.get("sigma_over_Fm"),
+            d.get("stat_max_N"), d.get("stat_min_N"), d.get("max_N"), d.get("min_N"), d.get("loss_of_contact_pct"),
+            d.get("uplift_max_mm"), d.get("slack_droppers_max"),
+        ))
+    print(table(
+        ["v [km/h]", "F_stat [N]", "β", "F_m [N]", "σ [N]", "σ/F_m", "F_m+3σ", "F_m-3σ", "max [N]", "min [N]",
+         "loss [%]", "uplift [mm]", "slack droppers"],
+        rows,
+        ["{:g}", "{:g}", "{:.3f}", "{:.1f}", "{:.2f}", "{:.3f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.2f}",
+         "{:.1f}", "{}"],
+    ))
+    for run in batch.failed:
+        print(f"failed: {run.point.speed * 3.6:g} km/h, {run.point.static_force:g} N: {run.error}")

@@ -214,32 +214,36 @@ def integrate_batch(
     column_of = np.full(n, -1, dtype=np.int64)
     column_of[candidates] = np.arange(len(candidates))
     columns = _influence_columns(fixed["factor_band"], candidates)
-    is_candidate = np.zeros(n, dtype=np.bool_)
-    is_candidate[candidates] = True
+    candidate_index = np.full(n, -1, dtype=np.int64)
+    candidate_index[candidates] = np.arange(len(candidates))
     recorded = np.zeros(len(model.droppers), dtype=np.bool_)
     recorded[recorded_droppers(model, plans[0].analysed_section, settings)] = True
     station = state.discretisation.mast_station
     start, end = plans[0].analysed_section
     supports = np.flatnonzero((station >= start - 1e-9) & (station <= end + 1e-9))
+    support_dofs = system.position[model.support_z[supports]].astype(np.int64)
+    support_row = np.zeros(n, dtype=np.bool_)
+    support_row[support_dofs] = True
     shared = dict(
         fixed,
         column_of=column_of,
         columns=columns,
         dropper_recorded=recorded,
-        support_dofs=system.position[model.support_z[supports]].astype(np.int64),
+        support_dofs=support_dofs,
         stretch_influence=np.ascontiguousarray(
             np.einsum("cdk,dk->cd", columns[:, fixed["dropper_dofs"]], fixed["dropper_gradient"])
         ),
-        candidate=is_candidate,
+        candidate_index=candidate_index,
         candidate_rows=candidates.astype(np.int64),
+        support_row=support_row,
     )
     shared = tuple(shared[name] for name in kernel.SHARED)
     uplift = np.array([p.operation.uplift_force for p in plans])
     runs = (n_steps, path_nodes, path_weights, path_compliance, head_height, uplift)
     n_p = len(fixed["pantograph_mass"])
-    catenary = [np.zeros((n, n_runs)) for _ in range(6)]
-    pantograph = [np.zeros((n_p, n_runs)) for _ in range(4)]
-    run_state = (u, *catenary[:3], *pantograph, *catenary[3:])
+    # u, v, q = u + β_R v, r for the catenary; u, v, a, r for the pantographs (see kernel.advance).
+    run_state = (u, np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)),
+                 *(np.zeros((n_p, n_runs)) for _ in range(4)))
     records = BatchRecords(
         n_steps=n_steps,
         contact_force=np.zeros((n_runs, n_pan, longest + 1)),

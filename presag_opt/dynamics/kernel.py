@@ -34,7 +34,8 @@ SHARED = (
     "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",
     "pantograph_inverse", "column_of", "columns", "head_dof", "contact_stiffness", "friction_dofs",
     "friction_levels", "dropper_dofs", "dropper_gradient", "dropper_stiffness", "dropper_preload",
-    "dropper_recorded", "support_dofs", "cw_height", "stretch_influence", "candidate", "candidate_rows",
+    "dropper_recorded", "support_dofs", "cw_height", "stretch_influence", "candidate_index", "candidate_rows",
+    "support_row",
 )
 """The arrays all runs share, in the order of the kernel's ``shared`` tuple (catenary DOFs in banded
 order, pantograph DOFs after them): K and the Cholesky factor of K_eff by rows, band[j, k] = A[j + k, j]
@@ -43,7 +44,8 @@ order, pantograph DOFs after them): K and the Cholesky factor of K_eff by rows, 
 elements (upper DOF, lower DOF or −1 for the car body) and levels [N]; dropper DOFs (6 each), stretch
 gradients, axial stiffness [N/m], preload [N] and whether recorded; the supports of the analysed
 section; static contact-wire height per DOF [m]; each dropper's stretch per unit force at each column
-[m/N]; which rows a nonlinear force can reach, and their list."""
+[m/N]; for each row, its place among the rows a nonlinear force can reach (−1 if none), and their
+list; whether a row is a support of the analysed section."""
 
 SCALARS = (
     "rayleigh_alpha", "rayleigh_beta", "time_step", "hht_alpha", "newmark_beta", "newmark_gamma", "tolerance",
@@ -246,23 +248,23 @@ def make_scratch(shared):
 
 @njit(cache=True)
 def initialise(scalars, shared, runs, state, out, scratch):
-    """Internal forces and records at t = 0, the static contact state at rest.
+    """The static contact state at rest (t = 0), its records, and the predictors of step 1.
 
     r = K u + f_nl(u, 0) on the catenary and the pantographs, as the integrator's initial state;
-    the contact forces, slack droppers and support uplifts of the first record.
+    the contact forces, slack droppers and support uplifts of the first record. At rest the
+    predictors of step 1 are ũ = u, ṽ = 0 (see :func:`advance` for what the arrays hold).
     """
-    rayleigh_beta, friction_velocity = scalars[1], scalars[8]
+    rayleigh_beta, hht_alpha, friction_velocity = scalars[1], scalars[3], scalars[8]
     stiffness_band, mass, pantograph_stiffness = shared[0], shared[2], shared[5]
     head_dof, dropper_dofs, dropper_gradient, support_dofs = shared[9], shared[13], shared[14], shared[18]
-    u, r, pantograph_u, pantograph_r = state[0], state[3], state[4], state[7]
-    contact_force, uplift_max, slack_max, status, iterations = out[0], out[1], out[2], out[3], out[6]
+    u, v, q, r, pantograph_u, _, _, pantograph_r = state
+    contact_force, uplift_max, slack_max, status, _, _, iterations = out
     set_dofs, set_force, position, contact_now = scratch[0], scratch[1], scratch[3], scratch[4]
     u_of, v_of, stretch, rate = scratch[6], scratch[7], scratch[8], scratch[9]
     n = mass.shape[0]
     n_p = pantograph_stiffness.shape[0]
     n_runs = u.shape[1]
     band_matvec(stiffness_band, u, r, n_runs)
-    state[8][:, :] = r  # K u; K v = K a = 0 at rest
     rate[:] = 0.0
     v_of[:] = 0.0
     for b in range(n_runs):
@@ -296,6 +298,11 @@ def initialise(scalars, shared, runs, state, out, scratch):
             uplift_max[b] = max(uplift_max[b], u[support_dofs[i], b])
         status[b] = STATUS_RUNNING
         iterations[b] = 0
+    for j in range(n):
+        for b in range(n_runs):
+            v[j, b] = 0.0
+            q[j, b] = u[j, b]
+            r[j, b] = hht_alpha * r[j, b]
 
 
 @njit(cache=True)
@@ -305,29 +312,32 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
     Runs are sorted by step count, longest first, so the runs still going form a prefix of the
     batch; a run stops at its own last step or when its Newton iteration fails.
 
-    The products K u, K v and K a are carried along with u, v and a instead of being formed each
-    step: K_eff δ = g − s E φ with K_eff = (a0 + s a1 α_R) M + s (1 + a1 β_R) K gives K δ from
-    quantities the step has anyway, so the step needs no product with K. During a step u, v, K u,
-    K v and r hold ũ, ṽ, K ũ, K ṽ and the right-hand side α r_n.
+    Between steps the catenary arrays hold the next step's predictors: u = ũ, v = ṽ,
+    q = ũ + β_R ṽ, and r = α r_n (the right-hand side; the uplift acts on the heads only). A step is
+    three sweeps over the DOFs, each reading the arrays once: (1) C ṽ + K ũ = α_R M ṽ + K q, g =
+    rhs − s (C ṽ + K ũ) and the forward substitution of K_eff δ_lin = g; (2) the backward
+    substitution; then each run's Newton iteration on its few nonlinear DOFs; (3) δ = δ_lin − s Z φ,
+    the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the next step's predictors.
+    The step's force scale and residual at the predictor are collected in sweep (1) over the rows
+    no nonlinear force can reach, and completed run by run on the others (:func:`_newton`).
     """
     rayleigh_alpha, rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[:6]
-    factor_band, mass, columns, candidate = shared[1], shared[2], shared[8], shared[21]
+    stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
+    candidate_index, support_row = shared[21], shared[23]
     n_steps = runs[0]
-    u, v, a, r = state[0], state[1], state[2], state[3]
-    ku, kv, ka = state[8], state[9], state[10]
-    status = out[3]
+    u, v, q, r = state[0], state[1], state[2], state[3]
+    uplift_max, status = out[1], out[3]
     delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
     phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
-    n = mass.shape[0]
+    n, width = factor_band.shape
+    bw = width - 1
     n_runs = u.shape[1]
     s = 1.0 + hht_alpha
     a0 = 1.0 / (newmark_beta * dt * dt)
-    a1 = newmark_gamma / (newmark_beta * dt)
     c_v = dt * (1.0 - newmark_gamma)
     c_a = dt * dt * (0.5 - newmark_beta)
     c_g = newmark_gamma * dt
-    c_mass = a0 + s * a1 * rayleigh_alpha
-    c_stiffness = s * (1.0 + a1 * rayleigh_beta)
+    acc = np.empty(n_runs)
     for step in range(first_step, last_step + 1):
         active = 0
         for b in range(n_runs):
@@ -335,78 +345,86 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
                 active = b + 1
         if active == 0:
             break
-        # Predictors; C ṽ + K ũ = α_R M ṽ + K ũ + β_R K ṽ; rhs = α r_n (the uplift acts on the heads
-        # only); g = rhs − s (C ṽ + K ũ) and δ_lin = K_eff⁻¹ g. The step's force scale (largest
-        # |s (C ṽ + K ũ + f_nl)| and |rhs|) and residual at the predictor (largest |s f_nl − g|) are
-        # taken here over the rows no nonlinear force can reach, and over the others run by run
-        # (_newton), where the forces are known.
         for b in range(active):
             scale[b] = 0.0
             first_residual[b] = 0.0
+        # Sweep 1: C ṽ + K ũ row by row from the window of q, g, and the forward substitution.
         for j in range(n):
+            d = stiffness_band[j, 0]
             m = rayleigh_alpha * mass[j]
-            if candidate[j]:
+            for b in range(active):
+                acc[b] = d * q[j, b] + m * v[j, b]
+            for k in range(1, min(bw, n - 1 - j) + 1):
+                value = stiffness_band[j, k]
                 for b in range(active):
-                    up = u[j, b] + dt * v[j, b] + c_a * a[j, b]
-                    vp = v[j, b] + c_v * a[j, b]
-                    kup = ku[j, b] + dt * kv[j, b] + c_a * ka[j, b]
-                    kvp = kv[j, b] + c_v * ka[j, b]
-                    u[j, b] = up
-                    v[j, b] = vp
-                    ku[j, b] = kup
-                    kv[j, b] = kvp
-                    lin = m * vp + kup + rayleigh_beta * kvp
-                    linear[j, b] = lin
-                    rh = hht_alpha * r[j, b]
-                    r[j, b] = rh
-                    gj = rh - s * lin
-                    g[j, b] = gj
-                    delta[j, b] = gj
+                    acc[b] += value * q[j + k, b]
+            for k in range(1, min(bw, j) + 1):
+                value = stiffness_band[j - k, k]
+                for b in range(active):
+                    acc[b] += value * q[j - k, b]
+            c = candidate_index[j]
+            if c >= 0:
+                for b in range(active):
+                    lin = acc[b]
+                    gj = r[j, b] - s * lin
+                    linear[c, b] = lin
+                    g[c, b] = gj
+                    acc[b] = gj
             else:
                 for b in range(active):
-                    up = u[j, b] + dt * v[j, b] + c_a * a[j, b]
-                    vp = v[j, b] + c_v * a[j, b]
-                    kup = ku[j, b] + dt * kv[j, b] + c_a * ka[j, b]
-                    kvp = kv[j, b] + c_v * ka[j, b]
-                    u[j, b] = up
-                    v[j, b] = vp
-                    ku[j, b] = kup
-                    kv[j, b] = kvp
-                    lin = m * vp + kup + rayleigh_beta * kvp
-                    rh = hht_alpha * r[j, b]
-                    r[j, b] = rh
-                    gj = rh - s * lin
-                    g[j, b] = gj
-                    delta[j, b] = gj
-                    scale[b] = max(scale[b], abs(s * lin), abs(rh))
+                    lin = acc[b]
+                    gj = r[j, b] - s * lin
+                    scale[b] = max(scale[b], abs(s * lin), abs(r[j, b]))
                     first_residual[b] = max(first_residual[b], abs(gj))
-        band_cholesky_solve(factor_band, delta, active)
+                    acc[b] = gj
+            for k in range(1, min(bw, j) + 1):
+                value = factor_band[j - k, k]
+                for b in range(active):
+                    acc[b] -= value * delta[j - k, b]
+            d = factor_band[j, 0]
+            for b in range(active):
+                delta[j, b] = acc[b] / d
+        # Sweep 2: backward substitution.
+        for j in range(n - 1, -1, -1):
+            for b in range(active):
+                acc[b] = delta[j, b]
+            for k in range(1, min(bw, n - 1 - j) + 1):
+                value = factor_band[j, k]
+                for b in range(active):
+                    acc[b] -= value * delta[j + k, b]
+            d = factor_band[j, 0]
+            for b in range(active):
+                delta[j, b] = acc[b] / d
         for b in range(active):
             phi_count[b] = 0
             if status[b] == STATUS_RUNNING and n_steps[b] >= step:
                 _newton(b, step, scalars, shared, runs, state, out, work, scratch)
-        # δ = δ_lin − s Z φ, K δ = (g − c_mass M δ)/c_stiffness (the −s φ part of g is added per run),
-        # and the state update; HHT's r_(n+1) = (rhs − M a)/s (+ R/s, added per run).
+        # Sweep 3: the converged state, the support uplift, and the next step's predictors.
         for j in range(n):
             for b in range(active):
                 for k in range(phi_count[b]):
                     delta[j, b] -= phi_coefficient[b, k] * columns[phi_column[b, k], j]
             m = mass[j]
             for b in range(active):
-                d = delta[j, b]
-                aj = a0 * d
-                u[j, b] += d
-                a[j, b] = aj
-                v[j, b] += c_g * aj
-                kd = (g[j, b] - c_mass * m * d) / c_stiffness
-                ku[j, b] += kd
-                kaj = a0 * kd
-                ka[j, b] = kaj
-                kv[j, b] += c_g * kaj
-                r[j, b] = (r[j, b] - m * aj) / s
+                dj = delta[j, b]
+                aj = a0 * dj
+                uj = u[j, b] + dj
+                vj = v[j, b] + c_g * aj
+                rj = (r[j, b] - m * aj) / s
+                up = uj + dt * vj + c_a * aj
+                vp = vj + c_v * aj
+                delta[j, b] = uj  # u_(n+1), kept for the support records below
+                u[j, b] = up
+                v[j, b] = vp
+                q[j, b] = up + rayleigh_beta * vp
+                r[j, b] = hht_alpha * rj
+            if support_row[j]:
+                for b in range(active):
+                    if status[b] == STATUS_RUNNING and n_steps[b] >= step:
+                        uplift_max[b] = max(uplift_max[b], delta[j, b])
         for b in range(active):
-            if status[b] == STATUS_RUNNING and n_steps[b] >= step:
-                _finish_step(b, step, scalars, shared, runs, state, out, work)
+            if status[b] == STATUS_RUNNING and n_steps[b] == step:
+                status[b] = STATUS_OK
 
 
 @njit(cache=True)
@@ -505,8 +523,8 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
     for i in range(candidate_rows.shape[0]):
         j = candidate_rows[i]
         f0 = set_force[position[j]] if position[j] >= 0 else 0.0
-        largest_term = max(largest_term, abs(s * (linear[j, b] + f0)), abs(rhs[j, b]))
-        largest = max(largest, abs(s * f0 - g[j, b]))
+        largest_term = max(largest_term, abs(s * (linear[i, b] + f0)), abs(rhs[j, b]))
+        largest = max(largest, abs(s * f0 - g[i, b]))
     for i in range(n_p):
         f0 = set_force[position[n + i]] if position[n + i] >= 0 else 0.0
         largest_term = max(largest_term, abs(s * (p_linear[i] + f0)), abs(p_rhs[i]))
@@ -596,23 +614,24 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
             largest = max(largest, abs(residual[i]))
     iterations[b] += taken
     if taken == 0:
-        # Converged at the predictor: δ = 0, and R = s f0 − g gives r_(n+1) = C ṽ + K ũ + f0; the
-        # state update's (rhs − M a)/s is rhs/s, so the residual part R/s is f0 + (C ṽ + K ũ) − rhs/s.
-        for j in range(delta.shape[0]):
+        # Converged at the predictor: δ = 0, and R = s f0 − g everywhere gives
+        # r_(n+1) = C ṽ + K ũ + f0; sweep 3 forms (rhs + R − M a)/s, so rhs becomes s (C ṽ + K ũ)
+        # here and R = s f0 on the set.
+        _linear_column(b, scalars, shared, state, delta)
+        for j in range(n):
+            rhs[j, b] = s * delta[j, b]
             delta[j, b] = 0.0
         for i in range(n_p):
             p_delta_lin[i] = 0.0
         for i in range(count):
-            residual[i] = s * set_force[i]  # R/s = f0 on the set; the rest of r is set in _finish_step
-    work[12][b] = taken == 0
-    # φ's catenary part goes to the state update; the pantographs are updated here.
+            residual[i] = s * set_force[i]
+    # φ's catenary part goes to sweep 3; the pantographs are updated here.
     c = 0
     for k in range(n_phi):
         m = phi_dofs[k]
         if m < n:
             phi_column[b, c] = column_of[m]
             phi_coefficient[b, c] = s * phi[k]
-            work[11][b, c] = m
             c += 1
         else:
             for i in range(n_p):
@@ -623,73 +642,49 @@ def _newton(b, step, scalars, shared, runs, state, out, work, scratch):
         pantograph_u[i, b] = p_pred[i] + p_delta_lin[i]
         pa[i, b] = ai
         pv[i, b] = pv_pred[i] + newmark_gamma * dt * ai
-        pantograph_r[i, b] = p_linear[i] if taken == 0 else (p_rhs[i] - pantograph_mass[i] * ai) / s
-    # Records of the step, and the final residual R for HHT's r_(n+1) = (R + rhs − M a)/s: the
-    # pantographs' part now, the catenary's after the state update (work arrays, per run).
-    res_count, res_dofs, res_value = work[8], work[9], work[10]
-    c = 0
+        if taken == 0:
+            pantograph_r[i, b] = p_linear[i]
+        else:
+            pantograph_r[i, b] = (p_rhs[i] - pantograph_mass[i] * ai) / s
+    # HHT's r_(n+1) = (rhs + R − M a)/s: the final residual R joins the right-hand side on the set
+    # (the catenary's, for sweep 3) or the pantographs' r directly.
     for i in range(count):
         j = set_dofs[i]
         position[j] = -1
         if j < n:
-            res_dofs[b, c] = j
-            res_value[b, c] = residual[i] / s
-            c += 1
+            rhs[j, b] += residual[i]
         else:
             pantograph_r[j - n, b] += residual[i] / s
-    res_count[b] = c
     for p in range(n_pan):
         out[0][b, p, step] = scratch[4][p]
     out[2][b] = max(out[2][b], slack)
 
 
 @njit(cache=True)
-def _finish_step(b, step, scalars, shared, runs, state, out, work):
-    """Per-run completion of the state update, the support uplift and the run's end.
-
-    Adds the final residual's share R/s to r_(n+1) on the nonlinear set and the −s φ part of g to
-    K δ (see :func:`advance`); a run that converged at its predictor has R = s f0 − g everywhere,
-    so r_(n+1) = (rhs − g)/s + f0.
-    """
-    s = 1.0 + scalars[3]
-    dt, newmark_beta, newmark_gamma = scalars[2], scalars[4], scalars[5]
-    a0 = 1.0 / (newmark_beta * dt * dt)
-    a1 = newmark_gamma / (newmark_beta * dt)
-    c_stiffness = s * (1.0 + a1 * scalars[1])
-    n = shared[2].shape[0]
-    support_dofs = shared[18]
-    u, r, ku, kv, ka = state[0], state[3], state[8], state[9], state[10]
-    uplift_max, status = out[1], out[3]
-    g, phi_count, phi_coefficient = work[1], work[5], work[7]
-    res_count, res_dofs, res_value, phi_rows, predictor = work[8], work[9], work[10], work[11], work[12]
-    if predictor[b]:
-        for j in range(n):
-            r[j, b] -= g[j, b] / s
-    for k in range(phi_count[b]):
-        j = phi_rows[b, k]
-        kd = -phi_coefficient[b, k] / c_stiffness
-        ku[j, b] += kd
-        ka[j, b] += a0 * kd
-        kv[j, b] += newmark_gamma * dt * a0 * kd
-    for i in range(res_count[b]):
-        r[res_dofs[b, i], b] += res_value[b, i]
-    for i in range(support_dofs.shape[0]):
-        value = u[support_dofs[i], b]
-        if value > uplift_max[b]:
-            uplift_max[b] = value
-    if step == runs[0][b]:
-        status[b] = STATUS_OK
+def _linear_column(b, scalars, shared, state, out):
+    """out[:, b] = C ṽ + K ũ of run ``b`` (α_R M ṽ + K q), for a run that converged at its predictor."""
+    rayleigh_alpha = scalars[0]
+    stiffness_band, mass = shared[0], shared[2]
+    v, q = state[1], state[2]
+    n, width = stiffness_band.shape
+    bw = width - 1
+    for j in range(n):
+        acc = stiffness_band[j, 0] * q[j, b] + rayleigh_alpha * mass[j] * v[j, b]
+        for k in range(1, min(bw, n - 1 - j) + 1):
+            acc += stiffness_band[j, k] * q[j + k, b]
+        for k in range(1, min(bw, j) + 1):
+            acc += stiffness_band[j - k, k] * q[j - k, b]
+        out[j, b] = acc
 
 
 def make_work(shared, n_runs):
-    """Per-step work arrays of a batch: δ, g, C ṽ + K ũ (n, runs); force scale and residual at the
-    predictor; φ (count, columns, s φ, rows); final residual on the set (count, rows, R/s); whether a
-    run converged at its predictor."""
+    """Per-step work arrays of a batch: δ (n, runs); C ṽ + K ũ and g on the candidate rows; force
+    scale and residual at the predictor; φ (count, columns, s φ)."""
     n = shared[2].shape[0]
+    n_candidates = shared[22].shape[0]
     size = 3 * shared[9].shape[0] + 2 * shared[3].shape[0] + 6 * shared[16].shape[0] + 1
     return (
-        np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros(n_runs), np.zeros(n_runs),
+        np.zeros((n, n_runs)), np.zeros((n_candidates, n_runs)), np.zeros((n_candidates, n_runs)),
+        np.zeros(n_runs), np.zeros(n_runs),
         np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
-        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
-        np.zeros((n_runs, size), dtype=np.int64), np.zeros(n_runs, dtype=np.bool_),
     )

@@ -127,3 +127,34 @@ def test_case_file_with_an_unknown_key_names_it(tmp_path):
     path.write_text(valid_analysis.replace("[90]", "[-90]"), encoding="utf-8")
     with pytest.raises(ModelError, match=r"operation.speeds\[0\] = -90 km/h is outside the valid range \(0, 600\]"):
         load_case(path)
+
+
+def test_several_speeds_and_forces_run_as_one_batch(capsys):
+    """``--speed A,B --static-force C,D`` runs the grid through the batch engine: one JSON object
+    whose ``runs`` hold one entry per (speed, force), speed-major, each with the single-run keys and
+    the statistics of simulate_many for the same points (the same engine: exact)."""
+    from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+
+    code, out, _ = _run(capsys, "--case", "case_study_st98", "--speed", "160,180", "--static-force", "70,120",
+                        "--json")
+    assert code == 0
+    printed = json.loads(out)
+    assert [(r["speed_kmh"], r["static_force_N"]) for r in printed["runs"]] == [
+        (160.0, 70.0), (160.0, 120.0), (180.0, 70.0), (180.0, 120.0)]
+    for run in printed["runs"]:
+        assert set(REQUIRED_KEYS) | {"analysed_spans", "time_step_ms", "wall_time_s"} <= set(run)
+    case = load_case("case_study_st98")
+    from presag_opt.static.equilibrium import form_find
+
+    state = form_find(case.catenary, case.settings.static)
+    api = simulate_many(state, case.pantograph, [OperatingPoint(
+        speed=180 / 3.6, static_force=70.0, aero_coefficient=case.operation.aero_coefficient)],
+        settings=case.settings).runs[0]
+    assert printed["runs"][2]["sigma_N"] == api.statistics[0].std_force
+    assert printed["runs"][2]["uplift_max_mm"] == pytest.approx(api.uplift_max * 1e3, rel=1e-15)
+
+
+def test_an_empty_list_of_forces_is_one_line(capsys):
+    code, _, err = _run(capsys, "--case", "case_study_st98", "--speed", "90", "--static-force", ",")
+    assert code == 2
+    assert err.strip() == "presag: error: --static-force: give at least one value (comma-separated)"
