@@ -7,7 +7,6 @@ import dataclasses
 import sys
 
 from presag_opt.cli.common import EXIT_NOT_CONVERGED, add_json_flag, float_list, positive_float, print_json, table
-from presag_opt.cli.static import add_element_flag
 from typing import TYPE_CHECKING
 
 from presag_opt.dynamics.integrator import IntegratorSettings
@@ -18,7 +17,7 @@ from presag_opt.system.loader import builtin_model_names, load_catenary
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
     from presag_opt.dynamics.case import SimulationCase
-    from presag_opt.dynamics.simulate import SimulationResult
+    from presag_opt.dynamics.simulate import SimulationResult, SimulationSettings
 
 SCHEMES = {
     "hht": IntegratorSettings(scheme="hht", hht_alpha=-0.005),
@@ -63,13 +62,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--spacing", metavar="M", type=float_list, default=None,
         help="several pantographs: distances between consecutive pantographs in m, comma-separated",
     )
-    p.add_argument("--time-step", metavar="MS", type=positive_float, default=2.0, help="time step in ms (default 2)")
+    p.add_argument(
+        "--time-step", metavar="MS", type=positive_float, default=None,
+        help="time step in ms; with this or --element-length the numerics are fixed (default: the case's "
+        "numerics, automatic from the speed for the built-in cases, else 2 ms)",
+    )
     p.add_argument(
         "--scheme", choices=sorted(SCHEMES), default="hht",
         help="hht: HHT-alpha with alpha = -0.005, the paper's numerical damping (default); "
         "newmark: average acceleration",
     )
-    add_element_flag(p)
+    p.add_argument(
+        "--element-length", metavar="M", type=positive_float, default=None,
+        help="longest element in m; with this or --time-step the numerics are fixed (default: the case's "
+        "numerics, automatic from the speed for the built-in cases, else 0.5 m)",
+    )
     p.add_argument(
         "--plot", metavar="FILE", default=None,
         help="save a figure (PNG, PDF or SVG): contact force against position for one run, "
@@ -87,57 +94,116 @@ def simulate_command(args: argparse.Namespace) -> int:
     case = _case(args)
     speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
-    settings = dataclasses.replace(
-        case.settings,
-        integrator=dataclasses.replace(SCHEMES[args.scheme], time_step=args.time_step * 1e-3),
-        static=StaticSettings(element_length=args.element_length),
-    )
+    settings = _settings(args, case.settings)
+    plans = {}
     for speed in speeds:  # every input is checked before the form-finding starts
         for force in forces:
-            dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force)).plan(
-                speed, settings)
-    state = form_find(case.catenary, settings.static)
-    if len(speeds) == 1 and len(forces) == 1:
-        return _single_run(args, dataclasses.replace(
-            case, operation=dataclasses.replace(case.operation, static_force=forces[0])), speeds[0], state, settings)
-    return _batch(args, case, speeds, forces, state, settings)
+            plans[speed, force] = dataclasses.replace(
+                case, operation=dataclasses.replace(case.operation, static_force=force)).plan(speed, settings)
+    # With automatic numerics the element length follows the speed: one form-found state per length.
+    lengths = sorted({plan.settings.static.element_length for plan in plans.values()}, reverse=True)
+    states = {h: form_find(case.catenary, dataclasses.replace(settings.static, element_length=h)) for h in lengths}
+    if len(plans) == 1:
+        (speed, force), plan = next(iter(plans.items()))
+        single = dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force))
+        return _single_run(args, single, speed, states[plan.settings.static.element_length], settings)
+    return _batch(args, case, plans, states, settings)
+
+
+def _settings(args: argparse.Namespace, base: SimulationSettings) -> SimulationSettings:
+    """The case's settings with the scheme, and fixed numerics where an element length or time step is given."""
+    integrator = dataclasses.replace(SCHEMES[args.scheme], time_step=base.integrator.time_step)
+    settings = dataclasses.replace(base, integrator=integrator)
+    if args.time_step is None and args.element_length is None:
+        return settings
+    return dataclasses.replace(
+        settings,
+        numerics="fixed",
+        integrator=dataclasses.replace(integrator, time_step=(args.time_step or 2.0) * 1e-3),
+        static=StaticSettings(element_length=args.element_length or 0.5),
+    )
+
+
+def _reference_verdicts(args: argparse.Namespace, runs: list[dict]) -> list[list] | None:
+    """For the EN 50318-style reference case: each run's statistics against the published ranges
+    (None for other cases, or when a speed has no published ranges)."""
+    from presag_opt.cli.validation import REFERENCE_CASE
+    from presag_opt.validation.en50318 import EN50318_RANGES, en50318_verdicts
+
+    if args.case != REFERENCE_CASE or any(round(r["speed_kmh"], 6) not in EN50318_RANGES for r in runs):
+        return None
+    return [list(en50318_verdicts(r["speed_kmh"], r)) for r in runs]
+
+
+def _report_verdicts(runs: list[dict], verdicts: list[list] | None, as_json: bool) -> None:
+    """Add the EN 50318 verdicts to the JSON runs, or print them under the table."""
+    if verdicts is None:
+        return
+    if as_json:
+        for run, vs in zip(runs, verdicts):
+            run["en50318"] = [dataclasses.asdict(v) | {"inside": v.inside} for v in vs]
+        return
+    flat = [(run["speed_kmh"], v) for run, vs in zip(runs, verdicts) for v in vs]
+    outside = [(speed, v) for speed, v in flat if not v.inside]
+    print(f"\nEN 50318 reference ranges: {len(flat) - len(outside)} of {len(flat)} statistics inside")
+    for speed, v in outside:
+        print(f"  OUTSIDE at {speed:g} km/h: {v.statistic} = {v.value:.1f}, published {v.low:g} – {v.high:g}")
 
 
 def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, state, settings) -> int:
     result = case.run(speed, state=state, settings=settings)
+    for line in result.warnings:
+        print(f"presag: warning: {line}", file=sys.stderr)
     if args.plot:
         from presag_opt.plotting import plot_contact_force
 
         plot_contact_force([result], args.plot)
+    runs = [result.to_dict()]
+    verdicts = _reference_verdicts(args, runs)
     if args.json:
-        print_json(result.to_dict())
+        _report_verdicts(runs, verdicts, True)
+        print_json(runs[0])
         return 0
     _print_table(case, [result])
+    _report_verdicts(runs, verdicts, False)
     if args.plot:
         print(f"\nPlot saved to {args.plot}")
     return 0
 
 
-def _batch(args: argparse.Namespace, case: SimulationCase, speeds, forces, state, settings) -> int:
+def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: dict, settings) -> int:
     from tqdm import tqdm
 
-    from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+    from presag_opt.dynamics.batch import BatchResult, OperatingPoint, simulate_many
 
-    points = [
-        OperatingPoint(speed=v, static_force=f, aero_coefficient=case.operation.aero_coefficient)
-        for v in speeds for f in forces
-    ]
-    with tqdm(total=len(points), desc="simulating", unit="run", file=sys.stderr, disable=None) as bar:
-        batch = simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings,
-                              progress=bar.update)
+    aero = case.operation.aero_coefficient
+    order = list(plans)
+    outcomes, wall = {}, 0.0
+    with tqdm(total=len(order), desc="simulating", unit="run", file=sys.stderr, disable=None) as bar:
+        for length, state in states.items():
+            keys = [k for k in order if plans[k].settings.static.element_length == length]
+            points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=aero) for v, f in keys]
+            part = simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings,
+                                 progress=bar.update)
+            outcomes.update(zip(keys, part.runs))
+            wall += part.wall_time
+    batch = BatchResult(catenary_name=part.catenary_name, pantograph_names=part.pantograph_names,
+                        runs=tuple(outcomes[k] for k in order), wall_time=wall, settings=settings)
+    for run in batch.runs:
+        for line in run.warnings:
+            print(f"presag: warning: {line}", file=sys.stderr)
     if args.plot:
         from presag_opt.plotting import plot_batch_statistics
 
         plot_batch_statistics(batch, args.plot)
+    output = {"case": case.name, **batch.to_dict()}
+    verdicts = _reference_verdicts(args, output["runs"])
     if args.json:
-        print_json({"case": case.name, **batch.to_dict()})
+        _report_verdicts(output["runs"], verdicts, True)
+        print_json(output)
         return 0
     _print_batch_table(case, batch)
+    _report_verdicts(output["runs"], verdicts, False)
     if args.plot:
         print(f"\nPlot saved to {args.plot}")
     return 0 if not batch.failed else EXIT_NOT_CONVERGED
@@ -238,24 +304,24 @@ def _print_batch_table(case: SimulationCase, batch) -> None:
     )
     print(
         f"analysed: spans {first.analysed_spans[0] + 1}-{first.analysed_spans[-1] + 1} ({start:g}-{end:g} m), "
-        f"filter {settings.cutoff_frequency:g} Hz, time step {settings.integrator.time_step * 1e3:g} ms, "
+        f"filter {settings.cutoff_frequency:g} Hz, numerics {settings.numerics}, "
         f"contact-wire wave speed {first.wave_speed * 3.6:.0f} km/h\n"
     )
-    keys = dict(catenary=batch.catenary_name, pantograph=case.pantograph.name, time_step=settings.integrator.time_step)
+    keys = dict(catenary=batch.catenary_name, pantograph=case.pantograph.name)
     rows = []
     for run in batch.runs:
         d = run.to_dict(**keys)
         rows.append((
-            d["speed_kmh"], d["static_force_N"], d["beta"], d.get("Fm_N"), d.get("sigma_N"), d.get("sigma_over_Fm"),
+            d["speed_kmh"], d["static_force_N"], d["beta"], d["time_step_ms"], d.get("Fm_N"), d.get("sigma_N"), d.get("sigma_over_Fm"),
             d.get("stat_max_N"), d.get("stat_min_N"), d.get("max_N"), d.get("min_N"), d.get("loss_of_contact_pct"),
             d.get("uplift_max_mm"), d.get("slack_droppers_max"),
         ))
     print(table(
-        ["v [km/h]", "F_stat [N]", "β", "F_m [N]", "σ [N]", "σ/F_m", "F_m+3σ", "F_m-3σ", "max [N]", "min [N]",
-         "loss [%]", "uplift [mm]", "slack droppers"],
+        ["v [km/h]", "F_stat [N]", "β", "dt [ms]", "F_m [N]", "σ [N]", "σ/F_m", "F_m+3σ", "F_m-3σ", "max [N]",
+         "min [N]", "loss [%]", "uplift [mm]", "slack droppers"],
         rows,
-        ["{:g}", "{:g}", "{:.3f}", "{:.1f}", "{:.2f}", "{:.3f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.2f}",
-         "{:.1f}", "{}"],
+        ["{:g}", "{:g}", "{:.3f}", "{:g}", "{:.1f}", "{:.2f}", "{:.3f}", "{:.1f}", "{:.1f}", "{:.1f}", "{:.1f}",
+         "{:.2f}", "{:.1f}", "{}"],
     ))
     for run in batch.failed:
         print(f"failed: {run.point.speed * 3.6:g} km/h, {run.point.static_force:g} N: {run.error}")

@@ -27,7 +27,7 @@ import numpy as np
 from presag_opt.dynamics import kernel
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run
+from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run, run_warnings
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
@@ -92,6 +92,10 @@ class RunOutcome:
     wall_time : float
         The run's share of the wall-clock time of the kernel call it ran in (that call's time
         divided by its runs). [s]
+    time_step : float
+        The run's time step. [s]
+    warnings : tuple of str
+        One line per numerical setting that under-resolves the run.
     error : str or None
         Why the run failed (one line), None if it finished.
     time : ndarray or None
@@ -112,6 +116,8 @@ class RunOutcome:
     analysed_section: tuple[float, float]
     newton_iterations: int
     wall_time: float
+    time_step: float
+    warnings: tuple[str, ...] = ()
     error: str | None = None
     time: np.ndarray | None = None
     contact_force: np.ndarray | None = None
@@ -121,7 +127,7 @@ class RunOutcome:
         """Whether the run finished."""
         return self.error is None
 
-    def to_dict(self, *, catenary: str, pantograph: str, time_step: float) -> dict:
+    def to_dict(self, *, catenary: str, pantograph: str) -> dict:
         """Headline numbers with units in the key names: the keys of the single-run ``--json`` output.
 
         Parameters
@@ -130,8 +136,6 @@ class RunOutcome:
             Catenary name.
         pantograph : str
             Name of the leading pantograph.
-        time_step : float
-            Time step of the batch. [s]
         """
         p = self.point
         out = {
@@ -153,8 +157,9 @@ class RunOutcome:
         })
         if self.ok:
             out["slack_droppers_max"] = self.slack_droppers_max
-        out["time_step_ms"] = time_step * 1e3
+        out["time_step_ms"] = self.time_step * 1e3
         out["wall_time_s"] = self.wall_time
+        out["warnings"] = list(self.warnings)
         if not self.ok:
             out["error"] = self.error
         elif len(self.statistics) > 1:
@@ -188,8 +193,7 @@ class BatchResult:
 
     def to_dict(self) -> dict:
         """All runs as the ``--json`` output of ``presag simulate`` with several operating points."""
-        keys = dict(catenary=self.catenary_name, pantograph=self.pantograph_names[0],
-                    time_step=self.settings.integrator.time_step)
+        keys = dict(catenary=self.catenary_name, pantograph=self.pantograph_names[0])
         return {
             "catenary": self.catenary_name,
             "pantographs": list(self.pantograph_names),
@@ -253,19 +257,23 @@ def simulate_many(
         raise ModelError("operating points: the list is empty; give at least one (speed, static force)")
     plans = [_plan(state, pantograph, p, spacings, settings) for p in points]
     model = structural_model(state, settings=settings.structure)
-    system = BatchSystem.build(model, plans[0].pantographs, settings)
-    dt = settings.integrator.time_step
-    order = sorted(range(len(points)), key=lambda i: -plans[i].step_count(dt))
     outcomes: list[RunOutcome | None] = [None] * len(points)
-    for first in range(0, len(order), BATCH_SIZE):
-        members = order[first : first + BATCH_SIZE]
-        batch_started = wallclock.perf_counter()
-        records = integrate_batch(state, system, [plans[i] for i in members], settings)
-        share = (wallclock.perf_counter() - batch_started) / len(members)
-        for b, i in enumerate(members):
-            outcomes[i] = _outcome(plans[i], b, records, settings, keep_histories, share)
-        if progress is not None:
-            progress(len(members))
+    # Runs that share a time step share a system (with automatic numerics the step follows the speed).
+    steps = sorted({p.settings.integrator.time_step for p in plans}, reverse=True)
+    for time_step in steps:
+        group = [i for i, p in enumerate(plans) if p.settings.integrator.time_step == time_step]
+        group_settings = plans[group[0]].settings
+        system = BatchSystem.build(model, plans[group[0]].pantographs, group_settings)
+        group.sort(key=lambda i: -plans[i].step_count(time_step))
+        for first in range(0, len(group), BATCH_SIZE):
+            members = group[first : first + BATCH_SIZE]
+            batch_started = wallclock.perf_counter()
+            records = integrate_batch(state, system, [plans[i] for i in members], group_settings)
+            share = (wallclock.perf_counter() - batch_started) / len(members)
+            for b, i in enumerate(members):
+                outcomes[i] = _outcome(state, plans[i], b, records, keep_histories, share)
+            if progress is not None:
+                progress(len(members))
     return BatchResult(
         catenary_name=state.catenary.name,
         pantograph_names=tuple(p.name for p in plans[0].pantographs),
@@ -294,9 +302,10 @@ def _plan(
 
 
 def _outcome(
-    plan: RunPlan, b: int, records: BatchRecords, settings: SimulationSettings, keep_histories: bool, wall_time: float
+    state: EquilibriumState, plan: RunPlan, b: int, records: BatchRecords, keep_histories: bool, wall_time: float
 ) -> RunOutcome:
     """Run ``b`` of a batch's records as an outcome: its statistics, or why it stopped."""
+    settings = plan.settings
     dt = settings.integrator.time_step
     point = OperatingPoint(
         speed=plan.operation.speed, static_force=plan.operation.static_force,
@@ -305,7 +314,7 @@ def _outcome(
     common = dict(point=point, speed_ratio=plan.speed_ratio, doppler_factor=plan.doppler_factor,
                   wave_speed=plan.wave_speed, analysed_spans=plan.analysed_spans,
                   analysed_section=plan.analysed_section, newton_iterations=int(records.iterations[b]),
-                  wall_time=wall_time)
+                  wall_time=wall_time, time_step=dt, warnings=run_warnings(state, plan))
     failed = dict(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, **common)
     if records.status[b] != kernel.STATUS_OK:
         step = int(records.fail_step[b])

@@ -37,7 +37,7 @@ from presag_opt.system.loader import (
 from presag_opt.system.quantity import check_value
 
 CASE_SECTIONS = ("case", "operation", "analysis")
-ANALYSIS_KEYS = ("analysed_spans", "lead_in_spans", "run_out", "cutoff_frequency")
+ANALYSIS_KEYS = ("analysed_spans", "lead_in_spans", "run_out", "cutoff_frequency", "numerics")
 
 
 @dataclass(frozen=True, kw_only=True)

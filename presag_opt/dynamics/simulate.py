@@ -48,6 +48,7 @@ Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, sect
 
 from __future__ import annotations
 
+import dataclasses
 import time as wallclock
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -56,6 +57,7 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
+from presag_opt.dynamics.numerics import numerics_for_speed, resolution_warnings
 from presag_opt.dynamics.integrator import NO_FORCE, IntegratorSettings, NonlinearForce, State, integrate, step_count
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics, lowpass_filter
@@ -68,6 +70,7 @@ from presag_opt.system.catenary import Catenary
 from presag_opt.system.quantity import quantity, validate_fields
 
 DROPPER_RECORDS = ("analysed", "all")
+NUMERICS = ("fixed", "auto")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,6 +98,9 @@ class SimulationSettings:
         Low-pass cut-off of the contact force. [Hz]
     droppers : {"analysed", "all"}
         Droppers whose forces are recorded: those of the analysed section, or all.
+    numerics : {"fixed", "auto"}
+        ``"fixed"``: ``static.element_length`` and ``integrator.time_step`` as given; ``"auto"``: both
+        from the speed (:func:`~presag_opt.dynamics.numerics.numerics_for_speed`).
     """
 
     integrator: IntegratorSettings = field(
@@ -108,6 +114,7 @@ class SimulationSettings:
     run_out: float = quantity("time", 0.0, 10.0, default=0.25)
     cutoff_frequency: float = quantity("frequency", 1.0, 200.0, display="Hz", default=20.0)
     droppers: Literal["analysed", "all"] = "analysed"
+    numerics: Literal["fixed", "auto"] = "fixed"
 
     def __post_init__(self) -> None:
         validate_fields(self)
@@ -118,6 +125,20 @@ class SimulationSettings:
             object.__setattr__(self, name, int(value))
         if self.droppers not in DROPPER_RECORDS:
             raise ModelError(f"droppers = {self.droppers!r} is not one of {', '.join(map(repr, DROPPER_RECORDS))}")
+        if self.numerics not in NUMERICS:
+            raise ModelError(f"numerics = {self.numerics!r} is not one of {', '.join(map(repr, NUMERICS))}")
+
+    def for_speed(self, speed: float, wave_speed: float) -> SimulationSettings:
+        """The settings of a run at ``speed`` [m/s] on a wire of ``wave_speed`` [m/s]: with
+        ``numerics = "auto"`` the element length and time step from the speed, otherwise ``self``."""
+        if self.numerics != "auto":
+            return self
+        chosen = numerics_for_speed(speed, wave_speed, self.cutoff_frequency)
+        return dataclasses.replace(
+            self,
+            static=dataclasses.replace(self.static, element_length=chosen.element_length),
+            integrator=dataclasses.replace(self.integrator, time_step=chosen.time_step),
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -242,6 +263,8 @@ class SimulationResult:
         Wall-clock time of the whole call (form-finding included if it ran). [s]
     settings : SimulationSettings
         Settings used.
+    warnings : tuple of str
+        One line per numerical setting that under-resolves the run (see :func:`run_warnings`).
     """
 
     catenary_name: str
@@ -263,6 +286,7 @@ class SimulationResult:
     stepping_time: float
     total_time: float
     settings: SimulationSettings
+    warnings: tuple[str, ...] = ()
 
     @property
     def statistics(self) -> ContactForceStatistics:
@@ -304,6 +328,7 @@ class SimulationResult:
             "slack_droppers_max": int(self.slack.sum(axis=1).max()) if self.slack.size else 0,
             "time_step_ms": self.settings.integrator.time_step * 1e3,
             "wall_time_s": self.total_time,
+            "warnings": list(self.warnings),
         }
         if len(self.pantographs) > 1:
             out["pantographs"] = [
@@ -511,6 +536,8 @@ class RunPlan:
         Station of each pantograph's contact point at t = 0, front to rear. [m]
     duration : float
         Simulated time. [s]
+    settings : SimulationSettings
+        The run's settings (with ``numerics = "auto"``, the element length and time step of its speed).
     """
 
     operation: Operation
@@ -522,6 +549,7 @@ class RunPlan:
     analysed_section: tuple[float, float]
     starts: np.ndarray
     duration: float
+    settings: SimulationSettings
 
     def step_count(self, time_step: float) -> int:
         """Number of time steps of the run (its duration rounded up to whole steps). [-]
@@ -565,8 +593,8 @@ def plan_run(
     ModelError
         See :func:`simulate`.
     """
-    settings = settings or SimulationSettings()
     operation = Operation(speed=speed, static_force=static_force, aero_coefficient=aero_coefficient, spacings=spacings)
+    settings = (settings or SimulationSettings()).for_speed(operation.speed, catenary.contact_wire.wave_speed)
     pantographs = _pantographs(pantograph, len(operation.offsets))
     for p in pantographs:
         p.check_time_step(settings.integrator.time_step)
@@ -607,6 +635,27 @@ def plan_run(
         analysed_section=section,
         starts=starts,
         duration=(rear_end - starts[-1]) / operation.speed,
+        settings=settings,
+    )
+
+
+def run_warnings(state: EquilibriumState, plan: RunPlan) -> tuple[str, ...]:
+    """One line per numerical setting of a run coarser than its speed needs.
+
+    The element length is the longest contact-wire element of ``state`` (a state form-found for
+    another speed may be coarser than this run's settings say); the time step is the plan's.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The form-found catenary the run uses.
+    plan : RunPlan
+        The run.
+    """
+    element = float(np.max(np.diff(state.discretisation.cw_station)))
+    return resolution_warnings(
+        plan.operation.speed, plan.wave_speed, plan.settings.cutoff_frequency,
+        element_length=element, time_step=plan.settings.integrator.time_step,
     )
 
 
@@ -662,6 +711,7 @@ def simulate(
         catenary, pantograph, speed=speed, static_force=static_force, aero_coefficient=aero_coefficient,
         spacings=spacings, settings=settings,
     )
+    settings = plan.settings
     state = system if isinstance(system, EquilibriumState) else form_find(system, settings.static)
     model = structural_model(state, settings=settings.structure)
     operation, pantographs = plan.operation, plan.pantographs
@@ -751,6 +801,7 @@ def simulate(
         stepping_time=result.wall_time,
         total_time=wallclock.perf_counter() - started,
         settings=settings,
+        warnings=run_warnings(state, plan),
     )
 
 

@@ -5,7 +5,7 @@ disk, sends the rest to the workers, writes each finished unit as it arrives (se
 :mod:`presag_opt.studies.store`) and, once every unit is on disk, assembles and writes the store.
 Local workers are a :class:`concurrent.futures.ProcessPoolExecutor` started with ``spawn`` (a fork
 of a process that runs the progress-bar thread could deadlock); a Dask scheduler address runs the
-very same :func:`~presag_opt.studies.work.run_unit` on that cluster instead. Only the parent process
+very same :func:`~presag_opt.studies.work.run_units` on that cluster instead. Only the parent process
 writes files.
 """
 
@@ -32,7 +32,7 @@ from presag_opt.studies.store import (
     save_unit,
     write_store,
 )
-from presag_opt.studies.work import UnitResult, WorkUnit, all_units, run_unit
+from presag_opt.studies.work import UnitResult, WorkUnit, all_units, run_units, task_groups
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -132,10 +132,10 @@ def _local_results(definition: StudyDefinition, pending: list[WorkUnit], workers
         return
     count = min(int(workers or os.cpu_count() or 1), len(pending))
     pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
-    futures = [pool.submit(run_unit, definition, unit) for unit in pending]
+    futures = [pool.submit(run_units, definition, group) for group in task_groups(pending)]
     try:
         for future in as_completed(futures):
-            yield future.result()
+            yield from future.result()
     except BaseException:
         # An error or an interrupt: drop the queued units instead of waiting for them to finish.
         pool.shutdown(wait=False, cancel_futures=True)
@@ -157,9 +157,9 @@ def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address:
         raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
     with client:
         scattered = client.scatter(definition, broadcast=True)
-        futures = [client.submit(run_unit, scattered, unit, pure=False) for unit in pending]
+        futures = [client.submit(run_units, scattered, group, pure=False) for group in task_groups(pending)]
         try:
             for future in dask_completed(futures):
-                yield future.result()
+                yield from future.result()
         finally:
             client.cancel(futures)
