@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING
 
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
-from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
@@ -112,16 +111,12 @@ def simulate_command(args: argparse.Namespace) -> int:
 
 def _settings(args: argparse.Namespace, base: SimulationSettings) -> SimulationSettings:
     """The case's settings with the scheme, and fixed numerics where an element length or time step is given."""
-    integrator = dataclasses.replace(SCHEMES[args.scheme], time_step=base.integrator.time_step)
-    settings = dataclasses.replace(base, integrator=integrator)
+    settings = dataclasses.replace(
+        base, integrator=dataclasses.replace(SCHEMES[args.scheme], time_step=base.integrator.time_step))
     if args.time_step is None and args.element_length is None:
         return settings
-    return dataclasses.replace(
-        settings,
-        numerics="fixed",
-        integrator=dataclasses.replace(integrator, time_step=(args.time_step or 2.0) * 1e-3),
-        static=StaticSettings(element_length=args.element_length or 0.5),
-    )
+    return settings.with_fixed_numerics(
+        element_length=args.element_length, time_step=args.time_step and args.time_step * 1e-3)
 
 
 def _reference_verdicts(args: argparse.Namespace, runs: list[dict]) -> list[list] | None:

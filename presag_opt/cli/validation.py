@@ -7,9 +7,7 @@ import dataclasses
 import sys
 
 from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
-from presag_opt.cli.static import add_element_flag
 from presag_opt.errors import ModelError
-from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 from presag_opt.validation.en50318 import EN50318_RANGES, en50318_ranges, en50318_verdicts
 
@@ -32,8 +30,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--speed", metavar="KMH", type=float_list, default=list(EN50318_RANGES),
         help=f"speeds in km/h with published ranges, comma-separated (default {speeds})",
     )
-    p.add_argument("--time-step", metavar="MS", type=positive_float, default=2.0, help="time step in ms (default 2)")
-    add_element_flag(p)
+    p.add_argument(
+        "--time-step", metavar="MS", type=positive_float, default=None,
+        help="time step in ms; with this or --element-length the numerics are fixed (default: the case's "
+        "automatic numerics)",
+    )
+    p.add_argument(
+        "--element-length", metavar="M", type=positive_float, default=None,
+        help="longest element in m; with this or --time-step the numerics are fixed (default: automatic)",
+    )
     add_json_flag(p)
     p.set_defaults(handler=en50318_command)
 
@@ -43,22 +48,27 @@ def en50318_command(args: argparse.Namespace) -> int:
     from presag_opt.dynamics.case import load_case  # the simulator is imported only when this runs
 
     case = load_case(REFERENCE_CASE)
-    settings = dataclasses.replace(
-        case.settings,
-        integrator=dataclasses.replace(case.settings.integrator, time_step=args.time_step * 1e-3),
-        static=StaticSettings(element_length=args.element_length),
-    )
+    settings = case.settings
+    if args.time_step is not None or args.element_length is not None:
+        settings = settings.with_fixed_numerics(
+            element_length=args.element_length, time_step=args.time_step and args.time_step * 1e-3)
     if not args.speed:
         raise ModelError("--speed: give at least one speed in km/h")
+    plans = {}
     for speed in args.speed:  # every input is checked before the form-finding starts
         en50318_ranges(speed)
-        case.plan(speed / 3.6, settings)
-    state = form_find(case.catenary, settings.static)
+        plans[speed] = case.plan(speed / 3.6, settings)
+    states = {}
+    for plan in plans.values():
+        length = plan.settings.static.element_length
+        if length not in states:
+            states[length] = form_find(case.catenary, plan.settings.static)
     runs = []
     for speed in args.speed:
         if not args.json:
             print(f"simulating {speed:g} km/h ...", file=sys.stderr, flush=True)
-        stats = case.run(speed / 3.6, state=state, settings=settings).to_dict()
+        stats = case.run(speed / 3.6, state=states[plans[speed].settings.static.element_length],
+                         settings=settings).to_dict()
         runs.append((speed, stats, en50318_verdicts(speed, stats)))
     if args.json:
         print_json({
@@ -70,9 +80,11 @@ def en50318_command(args: argparse.Namespace) -> int:
             ],
         })
         return 0
-    print(f"{case.name}: {settings.static.element_length:g} m elements, {args.time_step:g} ms time step")
+    print(f"{case.name}: numerics {settings.numerics}")
     for speed, stats, verdicts in runs:
-        print(f"\n{speed:g} km/h (β = {stats['beta']:.3f}):")
+        chosen = plans[speed].settings
+        print(f"\n{speed:g} km/h (β = {stats['beta']:.3f}; {chosen.static.element_length:g} m elements, "
+              f"{chosen.integrator.time_step * 1e3:g} ms time step):")
         print(table(
             ["statistic", "value", "published range", "verdict"],
             [(v.statistic, v.value, f"{v.low:g} – {v.high:g}", "inside" if v.inside else "OUTSIDE")

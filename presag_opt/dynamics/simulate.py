@@ -128,6 +128,18 @@ class SimulationSettings:
         if self.numerics not in NUMERICS:
             raise ModelError(f"numerics = {self.numerics!r} is not one of {', '.join(map(repr, NUMERICS))}")
 
+    def with_fixed_numerics(
+        self, *, element_length: float | None = None, time_step: float | None = None
+    ) -> SimulationSettings:
+        """These settings with ``numerics = "fixed"`` at the given element length [m] and time step [s]
+        (each None: the paper's 0.5 m and 2 ms)."""
+        return dataclasses.replace(
+            self,
+            numerics="fixed",
+            static=dataclasses.replace(self.static, element_length=element_length or 0.5),
+            integrator=dataclasses.replace(self.integrator, time_step=time_step or 2e-3),
+        )
+
     def for_speed(self, speed: float, wave_speed: float) -> SimulationSettings:
         """The settings of a run at ``speed`` [m/s] on a wire of ``wave_speed`` [m/s]: with
         ``numerics = "auto"`` the element length and time step from the speed, otherwise ``self``."""
