@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.dynamics import kernel
+from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run, run_warnings
@@ -316,9 +316,9 @@ def _outcome(
                   analysed_section=plan.analysed_section, newton_iterations=int(records.iterations[b]),
                   wall_time=wall_time, time_step=dt, warnings=run_warnings(state, plan))
     failed = dict(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, **common)
-    if records.status[b] != kernel.STATUS_OK:
+    if records.status[b] != batch_newton.STATUS_OK:
         step = int(records.fail_step[b])
-        what = ("a non-finite residual" if records.status[b] == kernel.STATUS_NOT_FINITE else
+        what = ("a non-finite residual" if records.status[b] == batch_newton.STATUS_NOT_FINITE else
                 f"residual {records.fail_residual[b]:.3g} N after {settings.integrator.max_iterations} corrections")
         return RunOutcome(error=f"Newton iteration did not converge in step {step} (t = {step * dt:.6g} s): {what}",
                           **failed)

@@ -17,7 +17,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import kernel
+from presag_opt.dynamics import batch_newton, kernel
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, recorded_droppers, static_contact
 from presag_opt.dynamics.structure import StructuralModel
@@ -148,7 +148,7 @@ class BatchRecords:
     slack_max : ndarray of int
         Most recorded droppers slack at once.
     status : ndarray of int
-        :data:`~presag_opt.dynamics.kernel.STATUS_OK` or the reason the run stopped.
+        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped.
     fail_step : ndarray of int
         Step at which a failed run stopped.
     fail_residual : ndarray
@@ -256,7 +256,7 @@ def integrate_batch(
     )
     out = (records.contact_force, records.uplift_max, records.slack_max, records.status, records.fail_step,
            records.fail_residual, records.iterations)
-    scratch = kernel.make_scratch(shared)
+    scratch = batch_newton.make_scratch(shared)
     work = kernel.make_work(shared, n_runs)
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
     for first in range(1, longest + 1, CHUNK_STEPS):
