@@ -31,6 +31,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from presag_opt.errors import ModelError
+
 ELEMENTS_PER_WAVELENGTH = 8.0
 """Fewest elements per shortest relevant wavelength (c − v)/f_c. [-]"""
 
@@ -107,7 +109,17 @@ def numerics_for_speed(speed: float, wave_speed: float, cutoff: float) -> Numeri
     Returns
     -------
     Numerics
+
+    Raises
+    ------
+    ModelError
+        A speed at or above the wave speed (no wave runs ahead of the pantograph).
     """
+    if not 0.0 < speed < wave_speed:
+        raise ModelError(
+            f"speed = {speed * 3.6:g} km/h is outside the valid range (0, {wave_speed * 3.6:g}) km/h for automatic "
+            "numerics (below the contact-wire wave speed)"
+        )
     wavelength, frequency = _wave(speed, wave_speed, cutoff)
     element = min(MAX_ELEMENT_LENGTH, wavelength / ELEMENTS_PER_WAVELENGTH)
     step = min(MAX_TIME_STEP, 1.0 / (STEPS_PER_PERIOD * frequency))

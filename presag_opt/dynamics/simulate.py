@@ -606,12 +606,12 @@ def plan_run(
         See :func:`simulate`.
     """
     operation = Operation(speed=speed, static_force=static_force, aero_coefficient=aero_coefficient, spacings=spacings)
-    settings = (settings or SimulationSettings()).for_speed(operation.speed, catenary.contact_wire.wave_speed)
+    wave_speed = catenary.contact_wire.wave_speed
+    doppler = doppler_factor(operation.speed, wave_speed)  # raises at v >= c, warns above β = 0.7
+    settings = (settings or SimulationSettings()).for_speed(operation.speed, wave_speed)
     pantographs = _pantographs(pantograph, len(operation.offsets))
     for p in pantographs:
         p.check_time_step(settings.integrator.time_step)
-    wave_speed = catenary.contact_wire.wave_speed
-    doppler = doppler_factor(operation.speed, wave_speed)  # raises at v >= c, warns above β = 0.7
 
     masts = np.concatenate([[0.0], np.cumsum(catenary.layout.span_lengths)])
     n_spans = len(masts) - 1

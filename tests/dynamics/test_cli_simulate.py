@@ -132,11 +132,12 @@ def test_case_file_with_an_unknown_key_names_it(tmp_path):
 def test_several_speeds_and_forces_run_as_one_batch(capsys):
     """``--speed A,B --static-force C,D`` runs the grid through the batch engine: one JSON object
     whose ``runs`` hold one entry per (speed, force), speed-major, each with the single-run keys and
-    the statistics of simulate_many for the same points (the same engine: exact)."""
+    the statistics of simulate_many for the same points and numerics (the same engine: exact), and
+    the warning that 0.5 m elements under-resolve 160 and 180 km/h."""
     from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 
-    code, out, _ = _run(capsys, "--case", "case_study_st98", "--speed", "160,180", "--static-force", "70,120",
-                        "--json")
+    code, out, err = _run(capsys, "--case", "case_study_st98", "--speed", "160,180", "--static-force", "70,120",
+                          "--time-step", "2", "--element-length", "0.5", "--json")
     assert code == 0
     printed = json.loads(out)
     assert [(r["speed_kmh"], r["static_force_N"]) for r in printed["runs"]] == [
@@ -149,8 +150,10 @@ def test_several_speeds_and_forces_run_as_one_batch(capsys):
     state = form_find(case.catenary, case.settings.static)
     api = simulate_many(state, case.pantograph, [OperatingPoint(
         speed=180 / 3.6, static_force=70.0, aero_coefficient=case.operation.aero_coefficient)],
-        settings=case.settings).runs[0]
+        settings=case.settings.with_fixed_numerics()).runs[0]
     assert printed["runs"][2]["sigma_N"] == api.statistics[0].std_force
+    assert printed["runs"][2]["warnings"] == list(api.warnings)
+    assert "presag: warning: element_length = 0.5 m under-resolves 180 km/h" in err
     assert printed["runs"][2]["uplift_max_mm"] == pytest.approx(api.uplift_max * 1e3, rel=1e-15)
 
 
