@@ -143,8 +143,8 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     span = disc.catenary.layout.central_span if span is None else span
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
-    local, vertical = _vertical_load_shapes(state, stations)
-    compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
+    local, vertical, rows = _vertical_load_shapes(state, stations)
+    compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
     elasticity = np.einsum("pi,ij,pj->p", local, compliance, local) + disc.cw_element_compliance(stations)
     return ElasticityCurve(
         span=span,
@@ -158,11 +158,13 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
 METHODS = ("newton", "active-set")
 
 
-def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Shape functions at the stations over the contact-wire nodes involved, and unit vertical loads.
 
-    Returns ``local`` (stations × nodes) and ``vertical`` (free DOFs × nodes): column j is a unit
-    upward force on node j, or zero where that node is held vertically (its uplift is zero).
+    Returns ``local`` (stations × nodes), ``vertical`` (free DOFs × nodes): column j is a unit
+    upward force on node j, or zero where that node is held vertically (its uplift is zero), and
+    ``rows``: the free-DOF row of each node's vertical DOF, −1 where it is held (``vertical.T @ A``
+    is ``_node_rows(A, rows)``).
     """
     disc = state.discretisation
     shape = disc.cw_shape(stations)
@@ -173,7 +175,15 @@ def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tupl
     movable = free[rows] == dofs
     vertical = np.zeros((len(free), len(nodes)))
     vertical[rows[movable], np.flatnonzero(movable)] = 1.0
-    return shape[:, nodes].toarray(), vertical
+    return shape[:, nodes].toarray(), vertical, np.where(movable, rows, -1)
+
+
+def _node_rows(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``vertical.T @ matrix`` by row selection: the rows of the nodes' vertical DOFs, zero where held
+    (a dense product with the 0/1 matrix costs a second per span of a long section)."""
+    out = np.zeros((len(rows), matrix.shape[1]))
+    out[rows >= 0] = matrix[rows[rows >= 0]]
+    return out
 
 
 def nonlinear_elasticity(
@@ -271,11 +281,11 @@ def _load_terms(structure: TensionOnlyStructure, stations: np.ndarray) -> tuple[
     cache = state._cache.setdefault("active_set_loads", {})
     key = np.asarray(stations, dtype=float).tobytes()
     if key not in cache:
-        local, vertical = _vertical_load_shapes(state, stations)
-        compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
+        local, vertical, rows = _vertical_load_shapes(state, stations)
+        compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
         cache[key] = (
             np.einsum("pi,ij,pj->p", local, compliance, local),
-            local @ (vertical.T @ structure.influence),
+            local @ _node_rows(structure.influence, rows),
         )
     return cache[key]
 
