@@ -23,7 +23,7 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016,
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -114,8 +114,10 @@ def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarra
     """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]"""
     disc = state.discretisation
     n_spans = len(disc.mast_station) - 1
-    if not 0 <= span < n_spans:
-        raise ModelError(f"span = {span + 1} is outside the valid range [1, {n_spans}]")
+    if isinstance(span, bool) or not isinstance(span, (int, np.integer)) or not 0 <= span < n_spans:
+        raise ModelError(
+            f"span = {span!r} is outside the valid range [0, {n_spans - 1}] (span index from 0: 0 is the first span)"
+        )
     if not 0.01 <= step <= 10.0:
         raise ModelError(f"step = {step:g} m is outside the valid range [0.01, 10] m")
     length = disc.mast_station[span + 1] - disc.mast_station[span]
@@ -130,7 +132,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     state : EquilibriumState
         Form-found (or loaded) equilibrium.
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     step : float
         Largest distance between evaluation points. [m]
 
@@ -202,7 +204,7 @@ def nonlinear_elasticity(
     force : float
         Upward contact force. [N]
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     step : float
         Largest distance between evaluation points. [m]
     method : {"newton", "active-set"}
@@ -302,11 +304,14 @@ class ElasticityStudy:
         Span index, from 0. [-]
     curves : tuple of ElasticityCurve
         Nonlinear curves by increasing force, then the linear curve if computed.
+    warnings : tuple of str
+        Curves outside the model's physical validity (see :func:`uplift_warnings`).
     """
 
     catenary_name: str
     span: int
     curves: tuple[ElasticityCurve, ...]
+    warnings: tuple[str, ...] = ()
 
     @property
     def nonlinear(self) -> tuple[ElasticityCurve, ...]:
@@ -335,6 +340,7 @@ class ElasticityStudy:
                 }
                 for c in self.curves
             ],
+            "warnings": list(self.warnings),
         }
 
 
@@ -347,6 +353,7 @@ def elasticity_study(
     linear: bool = False,
     linear_step: float = 0.1,
     method: str = "newton",
+    progress: Callable[[str], None] | None = None,
 ) -> ElasticityStudy:
     """Nonlinear elasticity curves at several forces, and optionally the linear curve.
 
@@ -355,7 +362,7 @@ def elasticity_study(
     state : EquilibriumState
         Form-found equilibrium.
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     forces : sequence of float
         Force levels. [N]
     step : float
@@ -366,11 +373,47 @@ def elasticity_study(
         Point spacing of the linear curve. [m]
     method : {"newton", "active-set"}
         Method of the nonlinear curves (see :func:`nonlinear_elasticity`).
+    progress : callable, optional
+        Called with a short message before each curve.
+
+    Returns
+    -------
+    ElasticityStudy
+        With ``warnings`` for curves whose uplift the model cannot represent (:func:`uplift_warnings`).
     """
     span = state.catenary.layout.central_span if span is None else span
     if not forces and not linear:
         raise ModelError("forces is empty and linear is off: nothing to compute")
-    curves = [nonlinear_elasticity(state, f, span, step, method) for f in sorted(forces)]
+    curves = []
+    for i, force in enumerate(sorted(forces)):
+        if progress:
+            progress(f"elasticity at {force:g} N ({i + 1}/{len(forces)})")
+        curves.append(nonlinear_elasticity(state, force, span, step, method))
     if linear:
+        if progress:
+            progress("linear elasticity")
         curves.append(linear_elasticity(state, span, linear_step))
-    return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves))
+    return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves),
+                           warnings=uplift_warnings(curves, state.catenary.system_height))
+
+
+def uplift_warnings(curves: Sequence[ElasticityCurve], system_height: float) -> tuple[str, ...]:
+    """One line per nonlinear curve whose largest uplift F·e_max reaches the system height.
+
+    The model has no contact between the wires: an uplift of the contact wire that reaches the
+    messenger wire (the system height above it at the supports) is outside its validity. Such a
+    curve is still returned, with this warning, since the elasticity up to that point is sound.
+
+    Parameters
+    ----------
+    curves : sequence of ElasticityCurve
+        Curves to check (the linear one has no force and is skipped).
+    system_height : float
+        Messenger wire above the contact wire at the supports. [m]
+    """
+    return tuple(
+        f"F = {c.force:g} N lifts the contact wire by up to {c.force * c.e_max * 1e3:.0f} mm, beyond the system "
+        f"height {system_height * 1e3:.0f} mm; the model (no contact between the wires) is not valid there"
+        for c in curves
+        if c.force is not None and c.force * c.e_max >= system_height
+    )

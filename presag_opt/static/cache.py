@@ -6,8 +6,8 @@ keeps the numeric part of an :class:`~presag_opt.static.equilibrium.EquilibriumS
 and element parameters) in one ``.npz`` file per key; the discretisation and the compiled functions
 are rebuilt from the catenary, which is cheap.
 
-The key is a SHA-256 over the catenary's full ``repr`` (every value, unit-converted, and its
-provenance, so editing a number in a model file changes it), the settings' ``repr``, the package and
+The key is a SHA-256 over the catenary's ``repr`` (every value in SI, so editing a number in a model
+file changes it; comments and provenance notes do not), the settings' ``repr``, the package and
 CasADi versions and the source text of the modules the result depends on (``system`` and
 ``static``), so a code change invalidates every entry. A file that cannot be read, or whose arrays
 do not fit the model, counts as a miss and is rewritten.
@@ -94,6 +94,11 @@ def state_key(catenary: object, settings: object) -> str:
     return digest.hexdigest()
 
 
+def contains(key: str) -> bool:
+    """Whether the active directory holds a file for ``key`` (it may still turn out unreadable)."""
+    return _active is not None and (_active / f"state-{key}.npz").is_file()
+
+
 def load(key: str) -> dict[str, np.ndarray] | None:
     """The arrays stored under ``key`` in the active directory, or None (no cache, a miss, or an
     unreadable file)."""
@@ -103,10 +108,8 @@ def load(key: str) -> dict[str, np.ndarray] | None:
     try:
         with np.load(path, allow_pickle=False) as data:
             return {name: data[name] for name in data.files}
-    except FileNotFoundError:
-        return None
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError):
-        return None  # corrupt or truncated: the caller recomputes and store() rewrites it
+        return None  # missing, or corrupt or truncated: the caller recomputes and store() rewrites it
 
 
 def store(key: str, arrays: dict[str, np.ndarray]) -> None:
@@ -116,8 +119,11 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
     try:
         _active.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=_active, suffix=".tmp")
+    except OSError:
+        return  # a read-only cache directory must not stop the computation
+    try:
         with os.fdopen(handle, "wb") as fh:
             np.savez(fh, **arrays)
         os.replace(temporary, _active / f"state-{key}.npz")
     except OSError:
-        pass  # a read-only or full cache directory must not stop the computation
+        Path(temporary).unlink(missing_ok=True)  # a full disk must not stop it either
