@@ -224,8 +224,6 @@ def band(text: str) -> tuple[float, float]:
     if len(parts) > 2:
         raise argparse.ArgumentTypeError(f"{text!r}: a band is written LOW:HIGH, e.g. 70:148")
     low, high = (positive_float(p) for p in (parts * 2)[:2])
-    if low > high:
-        raise argparse.ArgumentTypeError(f"{text!r}: LOW is above HIGH; write LOW:HIGH, e.g. {high:g}:{low:g}")
     return low, high
 
 
