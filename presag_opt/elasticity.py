@@ -23,7 +23,9 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016,
 
 from __future__ import annotations
 
+import multiprocessing
 from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -354,6 +356,7 @@ def elasticity_study(
     linear_step: float = 0.1,
     method: str = "newton",
     progress: Callable[[str], None] | None = None,
+    workers: int = 1,
 ) -> ElasticityStudy:
     """Nonlinear elasticity curves at several forces, and optionally the linear curve.
 
@@ -374,7 +377,10 @@ def elasticity_study(
     method : {"newton", "active-set"}
         Method of the nonlinear curves (see :func:`nonlinear_elasticity`).
     progress : callable, optional
-        Called with a short message before each curve.
+        Called with a short message as the curves are computed.
+    workers : int
+        Processes for the nonlinear curves (forked, so only where ``fork`` is available; the curves
+        are independent, the result is the same). [-]
 
     Returns
     -------
@@ -384,17 +390,44 @@ def elasticity_study(
     span = state.catenary.layout.central_span if span is None else span
     if not forces and not linear:
         raise ModelError("forces is empty and linear is off: nothing to compute")
-    curves = []
-    for i, force in enumerate(sorted(forces)):
-        if progress:
-            progress(f"elasticity at {force:g} N ({i + 1}/{len(forces)})")
-        curves.append(nonlinear_elasticity(state, force, span, step, method))
+    levels = sorted(forces)
+    if workers > 1 and len(levels) > 1 and "fork" in multiprocessing.get_all_start_methods():
+        curves = _parallel_curves(state, levels, span, step, method, workers, progress)
+    else:
+        curves = []
+        for i, force in enumerate(levels):
+            if progress:
+                progress(f"elasticity at {force:g} N ({i + 1}/{len(levels)})")
+            curves.append(nonlinear_elasticity(state, force, span, step, method))
     if linear:
         if progress:
             progress("linear elasticity")
         curves.append(linear_elasticity(state, span, linear_step))
     return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves),
                            warnings=uplift_warnings(curves, state.catenary.system_height))
+
+
+_FORKED_STATE: list[EquilibriumState] = []
+"""The state handed to forked workers (inherited, not pickled: it holds compiled CasADi functions)."""
+
+
+def _forked_curve(force: float, span: int, step: float, method: str) -> ElasticityCurve:
+    return nonlinear_elasticity(_FORKED_STATE[0], force, span, step, method)
+
+
+def _parallel_curves(state, levels, span, step, method, workers, progress) -> list[ElasticityCurve]:
+    """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time."""
+    _FORKED_STATE[:] = [state]
+    try:
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(max_workers=min(workers, len(levels)), mp_context=context) as pool:
+            futures = [pool.submit(_forked_curve, force, span, step, method) for force in levels]
+            for done, _ in enumerate(as_completed(futures), start=1):
+                if progress:
+                    progress(f"elasticity curves done: {done}/{len(levels)}")
+            return [f.result() for f in futures]
+    finally:
+        _FORKED_STATE.clear()
 
 
 def uplift_warnings(curves: Sequence[ElasticityCurve], system_height: float) -> tuple[str, ...]:

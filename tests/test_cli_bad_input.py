@@ -42,7 +42,7 @@ def test_progress_goes_to_stderr_and_json_stays_pure(tmp_path):
     result = presag("elasticity", "--forces", "100,150", "--progress", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     json.loads(result.stdout)  # nothing but the JSON object on standard output
-    assert "elasticity at 150 N (2/2)" in result.stderr
+    assert "elasticity" in result.stderr and "2/2" in result.stderr
 
 
 def test_quiet_and_progress_exclude_each_other(tmp_path):

@@ -20,6 +20,7 @@ import math
 import os
 import sys
 import tempfile
+import time
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
@@ -128,13 +129,15 @@ class Progress:
         self._bar = tqdm(total=total, file=sys.stderr, disable=not enabled, delay=delay, leave=False,
                          dynamic_ncols=True, unit="step",
                          bar_format="{desc}: {n_fmt}" + ("/{total_fmt}" if total else "") + " steps [{elapsed}]")
+        self._shown_after = time.monotonic() + delay
         self._started = False
 
     def __call__(self, message: str) -> None:
         if self._started:
             self._bar.update(1)
         self._started = True
-        self._bar.set_description_str(message, refresh=True)
+        # tqdm's own refresh would ignore the delay; short work shows nothing
+        self._bar.set_description_str(message, refresh=time.monotonic() >= self._shown_after)
 
     def __enter__(self) -> Progress:
         return self

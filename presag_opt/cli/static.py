@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from presag_opt.cli.common import (
@@ -153,7 +154,7 @@ def elasticity_command(args: argparse.Namespace) -> int:
     state = form_find_for(args, catenary, StaticSettings(element_length=args.element_length))
     with progress(args, total=len(args.forces) + args.linear) as report:
         study = elasticity_study(state, span=span, forces=args.forces, step=args.step, linear=args.linear,
-                                 progress=report)
+                                 progress=report, workers=os.cpu_count() or 1)
     if plot:
         from presag_opt.plotting import plot_elasticity
 
