@@ -116,6 +116,15 @@ def test_a_corrupt_cache_file_is_ignored_and_rewritten(tmp_path, cache_folder):
         np.testing.assert_array_equal(data["positions"], reference.positions)
 
 
+def test_cache_keeps_the_most_recently_used_entries(cache_folder):
+    from presag_opt.static import cache
+
+    for i in range(cache.MAX_ENTRIES + 3):
+        cache.store(f"key{i}", {"positions": np.full(3, float(i))})
+    assert len(list(cache_folder.glob("state-*.npz"))) == cache.MAX_ENTRIES
+    assert cache.load("key0") is None and cache.load(f"key{cache.MAX_ENTRIES + 2}") is not None
+
+
 def test_cache_command_clears(tmp_path):
     env_home = tmp_path / "home-cache"
     run = subprocess.run([str(SCRIPT), "form-find", "--span", "1", "--json"], capture_output=True, text=True,

@@ -34,6 +34,10 @@ CACHE_ENV_OFF = "PRESAG_NO_CACHE"
 _SOURCE_PARTS = ("system", "static")
 """Parts of the package whose code determines a form-found state."""
 
+MAX_ENTRIES = 32
+"""Cached states kept; the least recently used beyond this are deleted (a code change or a new model
+starts new entries, and a mixed section takes about 0.5 MB). [-]"""
+
 _active: Path | None = None
 
 
@@ -107,7 +111,9 @@ def load(key: str) -> dict[str, np.ndarray] | None:
     path = _active / f"state-{key}.npz"
     try:
         with np.load(path, allow_pickle=False) as data:
-            return {name: data[name] for name in data.files}
+            arrays = {name: data[name] for name in data.files}
+        os.utime(path)  # recently used: pruned last
+        return arrays
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError):
         return None  # missing, or corrupt or truncated: the caller recomputes and store() rewrites it
 
@@ -125,5 +131,8 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
         with os.fdopen(handle, "wb") as fh:
             np.savez(fh, **arrays)
         os.replace(temporary, _active / f"state-{key}.npz")
+        entries = sorted(_active.glob("state-*.npz"), key=lambda p: p.stat().st_mtime, reverse=True)
+        for stale in entries[MAX_ENTRIES:]:
+            stale.unlink(missing_ok=True)
     except OSError:
         Path(temporary).unlink(missing_ok=True)  # a full disk must not stop it either
