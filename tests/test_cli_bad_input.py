@@ -39,7 +39,7 @@ def one_error_line(result: subprocess.CompletedProcess) -> str:
 
 
 def test_progress_goes_to_stderr_and_json_stays_pure(tmp_path):
-    result = presag("elasticity", "--forces", "100,150", "--progress", "--json", cwd=tmp_path)
+    result = presag("elasticity", "--forces", "100,150", "--step", "10", "--progress", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     json.loads(result.stdout)  # nothing but the JSON object on standard output
     assert "elasticity" in result.stderr and "2/2" in result.stderr
@@ -159,30 +159,28 @@ def test_robust_design_beyond_the_model_range_is_refused(tmp_path):
 
 
 def test_elasticity_beyond_the_system_height_carries_a_warning(tmp_path):
-    table = presag("elasticity", "--forces", "100,2000", "--step", "5", cwd=tmp_path)
+    table = presag("elasticity", "--forces", "100,2000", "--step", "10", cwd=tmp_path)
     assert table.returncode == 0, table.stderr
     warning = [line for line in table.stdout.splitlines() if line.startswith("warning:")]
     assert len(warning) == 1 and "F = 2000 N" in warning[0] and "system height 1200 mm" in warning[0]
-    data = json.loads(presag("elasticity", "--forces", "100,2000", "--step", "5", "--json", cwd=tmp_path).stdout)
-    assert len(data["warnings"]) == 1 and "F = 2000 N" in data["warnings"][0]
+    data = json.loads(presag("elasticity", "--forces", "2000", "--step", "10", "--json", cwd=tmp_path).stdout)
+    assert data["warnings"] == [warning[0].removeprefix("warning: ")]
 
 
 # ----- 4. output paths checked before the work ----------------------------------------------------
 
 
-@pytest.mark.parametrize(("plot", "words"), [
-    ("/nonexistent/dir/x.png", "does not exist"),
-    ("/proc/x.png", "cannot write into /proc"),
-    ("x.xyz", "unknown format '.xyz'"),
-    ("some/", "is a folder"),
+@pytest.mark.parametrize(("command", "plot", "words"), [
+    ("elasticity", "/nonexistent/dir/x.png", "does not exist"),
+    ("recommend", "/proc/x.png", "cannot write into /proc"),
+    ("tolerance", "x.xyz", "unknown format '.xyz'"),
+    ("elasticity", "some/", "is a folder"),
 ])
-def test_bad_plot_paths_are_refused_before_the_work(tmp_path, plot, words):
+def test_bad_plot_paths_are_refused_before_the_work(tmp_path, command, plot, words):
     (tmp_path / "some").mkdir()
-    for command in (["elasticity", "--forces", "100"], ["recommend"], ["tolerance"]):
-        started = time.monotonic()
-        line = one_error_line(presag(*command, "--plot", plot, cwd=tmp_path))
-        assert words in line and line.startswith("presag: error: --plot")
-        assert time.monotonic() - started < 30  # refused at once, not after the computation
+    line = one_error_line(presag(command, "--plot", plot, "--no-cache", cwd=tmp_path))
+    assert words in line and line.startswith("presag: error: --plot")
+    assert not list(tmp_path.glob("*.png")) and not list((tmp_path / "some").iterdir())
 
 
 def test_plot_without_suffix_reports_the_file_written(tmp_path):

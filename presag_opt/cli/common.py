@@ -79,7 +79,7 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("run options")
     group.add_argument("--quiet", action="store_true", help="no progress display")
     group.add_argument("--progress", action="store_true",
-                       help="show the progress display even when standard error is not a terminal")
+                       help="show the progress display at once, even when standard error is not a terminal")
     group.add_argument("--no-cache", action="store_true",
                        help="do not read or write the form-finding cache (same as PRESAG_NO_CACHE=1)")
 
@@ -147,8 +147,9 @@ class Progress:
 
 
 def progress(args: argparse.Namespace, total: int | None = None) -> Progress:
-    """The :class:`Progress` display for a sub-command's options (``--quiet``, ``--progress``)."""
-    return Progress(progress_enabled(args), total)
+    """The :class:`Progress` display for a sub-command's options: off with ``--quiet``; with
+    ``--progress`` at once, else on a terminal after :data:`PROGRESS_DELAY`."""
+    return Progress(progress_enabled(args), total, delay=0.0 if getattr(args, "progress", False) else PROGRESS_DELAY)
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
