@@ -44,7 +44,7 @@ command-line grammar:
   LOW:HIGH   a band, e.g. --fm-band 70:148 (N), --static-force 70:140 (N)
   A,B,C      a list of values, e.g. --forces 50,100,150 (N)
   units      are in each option's metavar (N, MM, M, KMH, PERCENT); one number for a band means LOW = HIGH
-  --quiet / --progress   no progress display / a progress display even when standard error is not a terminal
+  --quiet / --progress   no progress display / the display at once, even when standard error is not a terminal
   --no-cache             do not read or write the form-finding cache (also: PRESAG_NO_CACHE=1; clear it with
                          `presag cache --clear`)"""
 """The grammar shared by every sub-command, printed as the epilog of ``presag --help``."""
