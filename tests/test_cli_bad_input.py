@@ -66,9 +66,8 @@ def cache_folder(tmp_path):
 def _small_model(tmp_path: Path, height: float = 5.3) -> Path:
     """A three-span copy of the ST 9,8/9,8 ideal model (form-finds in about a second)."""
     text = (REPOSITORY / "models" / "catenaries" / "st_9.8_ideal.toml").read_text()
-    lines = [line for line in text.splitlines()]
     out = []
-    for line in lines:
+    for line in text.splitlines():
         if line.startswith("span_count"):
             line = 'span_count = { value = 3, unit = "-", source = "assumed" }'
         if line.startswith("contact_wire_height"):

@@ -8,6 +8,7 @@ Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMA
 - :func:`progress` gives the one progress display (tqdm on standard error) for long work;
 - :func:`band` and :func:`float_list` parse ``LOW:HIGH`` bands and ``A,B,C`` lists;
 - :func:`output_path` checks a ``--plot`` file before any work starts;
+- :func:`form_find_for` form-finds, saying beforehand when it will take long;
 - :func:`model_help` is the help line of a model argument, listing the built-in models;
 - :func:`print_warnings` prints the one-line warnings of a result.
 """
@@ -23,11 +24,16 @@ import tempfile
 import time
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from presag_opt.errors import ConvergenceError, ModelError
+
+if TYPE_CHECKING:  # casadi is imported by the commands that form-find, not by this module
+    from presag_opt.static.discretisation import StaticSettings
+    from presag_opt.static.equilibrium import EquilibriumState
+    from presag_opt.system.catenary import Catenary
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
@@ -262,6 +268,35 @@ def output_path(text: str, option: str = "--plot") -> Path:
     except OSError as exc:
         raise ModelError(f"{option} {text}: cannot write into {folder} ({exc.strerror or exc})") from None
     return path
+
+
+LONG_FORM_FINDING = 10.0
+"""Expected form-finding time above which a command says how long it will take. [s]"""
+
+
+def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
+    """Form-find for a command: say beforehand when it will take long (unless ``--quiet``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's options (``--quiet``).
+    catenary : Catenary
+        System model.
+    settings : StaticSettings
+        Numerical settings.
+    """
+    from presag_opt.static.equilibrium import form_find, form_find_estimate
+
+    n_nodes, seconds = form_find_estimate(catenary, settings)
+    if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
+        print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
+              "(Ctrl-C stops it)", file=sys.stderr, flush=True)
+    return form_find(catenary, settings)
+
+
+def _duration(seconds: float) -> str:
+    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
 
 
 def model_help(kind: str, default: str | None = None) -> str:

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 
 from presag_opt.cli.common import (
     add_json_flag,
     float_list,
+    form_find_for,
     model_help,
     output_path,
     positive_float,
@@ -21,14 +21,9 @@ from presag_opt.elasticity import DEFAULT_FORCES, elasticity_study
 from presag_opt.errors import ModelError
 from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import EquilibriumState, form_find, form_find_estimate
-from presag_opt.system.catenary import Catenary
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 DEFAULT_MODEL = "st_9.8_ideal"
-
-LONG_FORM_FINDING = 10.0
-"""Expected form-finding time above which the command says how long it will take. [s]"""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -81,29 +76,6 @@ def add_element_flag(parser: argparse.ArgumentParser) -> None:
     """Add ``--element-length``."""
     parser.add_argument("--element-length", metavar="M", type=positive_float, default=0.5,
                         help="longest element in m (default 0.5; valid 0.01-5, small values take long)")
-
-
-def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
-    """Form-find for a command: say beforehand when it will take long (unless ``--quiet``).
-
-    Parameters
-    ----------
-    args : argparse.Namespace
-        The command's options (``--quiet``).
-    catenary : Catenary
-        System model.
-    settings : StaticSettings
-        Numerical settings.
-    """
-    n_nodes, seconds = form_find_estimate(catenary, settings)
-    if seconds > LONG_FORM_FINDING and not args.quiet:
-        print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
-              "(Ctrl-C stops it)", file=sys.stderr, flush=True)
-    return form_find(catenary, settings)
-
-
-def _duration(seconds: float) -> str:
-    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
 
 
 def span_index(args: argparse.Namespace, n_spans: int) -> int | None:

@@ -6,11 +6,10 @@ import argparse
 import dataclasses
 import sys
 
-from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import add_json_flag, float_list, form_find_for, positive_float, print_json, table
 from presag_opt.cli.static import add_element_flag
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
 from presag_opt.validation.en50318 import EN50318_RANGES, en50318_ranges, en50318_verdicts
 
 REFERENCE_CASE = "en50318_2002"
@@ -53,7 +52,7 @@ def en50318_command(args: argparse.Namespace) -> int:
     for speed in args.speed:  # every input is checked before the form-finding starts
         en50318_ranges(speed)
         case.plan(speed / 3.6, settings)
-    state = form_find(case.catenary, settings.static)
+    state = form_find_for(args, case.catenary, settings.static)
     runs = []
     for speed in args.speed:
         if not args.json:
