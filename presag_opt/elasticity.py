@@ -23,7 +23,9 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016,
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import multiprocessing
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -114,8 +116,10 @@ def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarra
     """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]"""
     disc = state.discretisation
     n_spans = len(disc.mast_station) - 1
-    if not 0 <= span < n_spans:
-        raise ModelError(f"span = {span + 1} is outside the valid range [1, {n_spans}]")
+    if isinstance(span, bool) or not isinstance(span, (int, np.integer)) or not 0 <= span < n_spans:
+        raise ModelError(
+            f"span = {span!r} is outside the valid range [0, {n_spans - 1}] (span index from 0: 0 is the first span)"
+        )
     if not 0.01 <= step <= 10.0:
         raise ModelError(f"step = {step:g} m is outside the valid range [0.01, 10] m")
     length = disc.mast_station[span + 1] - disc.mast_station[span]
@@ -130,7 +134,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     state : EquilibriumState
         Form-found (or loaded) equilibrium.
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     step : float
         Largest distance between evaluation points. [m]
 
@@ -143,8 +147,8 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     span = disc.catenary.layout.central_span if span is None else span
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
-    local, vertical = _vertical_load_shapes(state, stations)
-    compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
+    local, vertical, rows = _vertical_load_shapes(state, stations)
+    compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
     elasticity = np.einsum("pi,ij,pj->p", local, compliance, local) + disc.cw_element_compliance(stations)
     return ElasticityCurve(
         span=span,
@@ -158,11 +162,13 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
 METHODS = ("newton", "active-set")
 
 
-def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Shape functions at the stations over the contact-wire nodes involved, and unit vertical loads.
 
-    Returns ``local`` (stations × nodes) and ``vertical`` (free DOFs × nodes): column j is a unit
-    upward force on node j, or zero where that node is held vertically (its uplift is zero).
+    Returns ``local`` (stations × nodes), ``vertical`` (free DOFs × nodes): column j is a unit
+    upward force on node j, or zero where that node is held vertically (its uplift is zero), and
+    ``rows``: the free-DOF row of each node's vertical DOF, −1 where it is held (``vertical.T @ A``
+    is ``_node_rows(A, rows)``).
     """
     disc = state.discretisation
     shape = disc.cw_shape(stations)
@@ -173,7 +179,15 @@ def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tupl
     movable = free[rows] == dofs
     vertical = np.zeros((len(free), len(nodes)))
     vertical[rows[movable], np.flatnonzero(movable)] = 1.0
-    return shape[:, nodes].toarray(), vertical
+    return shape[:, nodes].toarray(), vertical, np.where(movable, rows, -1)
+
+
+def _node_rows(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``vertical.T @ matrix`` by row selection: the rows of the nodes' vertical DOFs, zero where held
+    (a dense product with the 0/1 matrix costs a second per span of a long section)."""
+    out = np.zeros((len(rows), matrix.shape[1]))
+    out[rows >= 0] = matrix[rows[rows >= 0]]
+    return out
 
 
 def nonlinear_elasticity(
@@ -192,7 +206,7 @@ def nonlinear_elasticity(
     force : float
         Upward contact force. [N]
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     step : float
         Largest distance between evaluation points. [m]
     method : {"newton", "active-set"}
@@ -271,11 +285,11 @@ def _load_terms(structure: TensionOnlyStructure, stations: np.ndarray) -> tuple[
     cache = state._cache.setdefault("active_set_loads", {})
     key = np.asarray(stations, dtype=float).tobytes()
     if key not in cache:
-        local, vertical = _vertical_load_shapes(state, stations)
-        compliance = vertical.T @ state.factorised_stiffness().solve(vertical)
+        local, vertical, rows = _vertical_load_shapes(state, stations)
+        compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
         cache[key] = (
             np.einsum("pi,ij,pj->p", local, compliance, local),
-            local @ (vertical.T @ structure.influence),
+            local @ _node_rows(structure.influence, rows),
         )
     return cache[key]
 
@@ -292,11 +306,14 @@ class ElasticityStudy:
         Span index, from 0. [-]
     curves : tuple of ElasticityCurve
         Nonlinear curves by increasing force, then the linear curve if computed.
+    warnings : tuple of str
+        Curves outside the model's physical validity (see :func:`uplift_warnings`).
     """
 
     catenary_name: str
     span: int
     curves: tuple[ElasticityCurve, ...]
+    warnings: tuple[str, ...] = ()
 
     @property
     def nonlinear(self) -> tuple[ElasticityCurve, ...]:
@@ -325,6 +342,7 @@ class ElasticityStudy:
                 }
                 for c in self.curves
             ],
+            "warnings": list(self.warnings),
         }
 
 
@@ -337,6 +355,8 @@ def elasticity_study(
     linear: bool = False,
     linear_step: float = 0.1,
     method: str = "newton",
+    progress: Callable[[str], None] | None = None,
+    workers: int = 1,
 ) -> ElasticityStudy:
     """Nonlinear elasticity curves at several forces, and optionally the linear curve.
 
@@ -345,7 +365,7 @@ def elasticity_study(
     state : EquilibriumState
         Form-found equilibrium.
     span : int, optional
-        Span index from 0; default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
     forces : sequence of float
         Force levels. [N]
     step : float
@@ -356,11 +376,77 @@ def elasticity_study(
         Point spacing of the linear curve. [m]
     method : {"newton", "active-set"}
         Method of the nonlinear curves (see :func:`nonlinear_elasticity`).
+    progress : callable, optional
+        Called with a short message as the curves are computed.
+    workers : int
+        Processes for the nonlinear curves (forked, so only where ``fork`` is available; the curves
+        are independent, the result is the same). [-]
+
+    Returns
+    -------
+    ElasticityStudy
+        With ``warnings`` for curves whose uplift the model cannot represent (:func:`uplift_warnings`).
     """
     span = state.catenary.layout.central_span if span is None else span
     if not forces and not linear:
         raise ModelError("forces is empty and linear is off: nothing to compute")
-    curves = [nonlinear_elasticity(state, f, span, step, method) for f in sorted(forces)]
+    levels = sorted(forces)
+    if workers > 1 and len(levels) > 1 and "fork" in multiprocessing.get_all_start_methods():
+        curves = _parallel_curves(state, levels, span, step, method, workers, progress)
+    else:
+        curves = []
+        for i, force in enumerate(levels):
+            if progress:
+                progress(f"elasticity at {force:g} N ({i + 1}/{len(levels)})")
+            curves.append(nonlinear_elasticity(state, force, span, step, method))
     if linear:
+        if progress:
+            progress("linear elasticity")
         curves.append(linear_elasticity(state, span, linear_step))
-    return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves))
+    return ElasticityStudy(catenary_name=state.catenary.name, span=span, curves=tuple(curves),
+                           warnings=uplift_warnings(curves, state.catenary.system_height))
+
+
+_FORKED_STATE: list[EquilibriumState] = []
+"""The state handed to forked workers (inherited, not pickled: it holds compiled CasADi functions)."""
+
+
+def _forked_curve(force: float, span: int, step: float, method: str) -> ElasticityCurve:
+    return nonlinear_elasticity(_FORKED_STATE[0], force, span, step, method)
+
+
+def _parallel_curves(state, levels, span, step, method, workers, progress) -> list[ElasticityCurve]:
+    """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time."""
+    _FORKED_STATE[:] = [state]
+    try:
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(max_workers=min(workers, len(levels)), mp_context=context) as pool:
+            futures = [pool.submit(_forked_curve, force, span, step, method) for force in levels]
+            for done, _ in enumerate(as_completed(futures), start=1):
+                if progress:
+                    progress(f"elasticity curves done: {done}/{len(levels)}")
+            return [f.result() for f in futures]
+    finally:
+        _FORKED_STATE.clear()
+
+
+def uplift_warnings(curves: Sequence[ElasticityCurve], system_height: float) -> tuple[str, ...]:
+    """One line per nonlinear curve whose largest uplift F·e_max reaches the system height.
+
+    The model has no contact between the wires: an uplift of the contact wire that reaches the
+    messenger wire (the system height above it at the supports) is outside its validity. Such a
+    curve is still returned, with this warning, since the elasticity up to that point is sound.
+
+    Parameters
+    ----------
+    curves : sequence of ElasticityCurve
+        Curves to check (the linear one has no force and is skipped).
+    system_height : float
+        Messenger wire above the contact wire at the supports. [m]
+    """
+    return tuple(
+        f"F = {c.force:g} N lifts the contact wire by up to {c.force * c.e_max * 1e3:.0f} mm, beyond the system "
+        f"height {system_height * 1e3:.0f} mm; the model (no contact between the wires) is not valid there"
+        for c in curves
+        if c.force is not None and c.force * c.e_max >= system_height
+    )

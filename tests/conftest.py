@@ -65,3 +65,12 @@ def short_recommendation(short_mixed):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # the case-study band must not warn on these layouts
         return recommend(models=[load_catenary("st_9.8_ideal"), short_mixed], recompute_at_recommended=True)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _cache_in_a_session_folder(tmp_path_factory):
+    """Commands run by the tests cache form-found states in a folder of this session (shared by the
+    tests, so later commands start faster), never in the user's cache."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
+        yield

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from presag_opt.cli.presag import Progress
+from presag_opt.cli.common import Progress, progress
 
 
 def presag(*args, timeout=120):
@@ -46,9 +46,9 @@ def test_empirical_table_output():
     [
         (["empirical", "--static-force", "0"], "static_force = 0 N is outside the valid range (0, 1000] N"),
         (["empirical", "--tension", "9.8/abc"], "--tension = '9.8/abc'"),
-        (["recommend", "--static-force", "0,140"], "static_force_low = 0 N is outside the valid range (0, 1000] N"),
-        (["recommend", "--static-force=-5,140"], "static_force_low = -5 N is outside the valid range"),
-        (["recommend", "--static-force", "150,70"], "static_force_low = 150 N is above static_force_high = 70 N"),
+        (["recommend", "--static-force", "0:140"], "static_force_low = 0 N is outside the valid range (0, 1000] N"),
+        (["recommend", "--static-force=-5:140"], "static_force_low = -5 N is outside the valid range"),
+        (["recommend", "--static-force", "150:70"], "static_force_low = 150 N is above static_force_high = 70 N"),
         (["recommend", "--max-speed", "345"], "speed = 345 km/h is outside the valid range [0, 344.5"),
         (["recommend", "--method", "max-min"], "method = 'max-min' is not one of mid-mast, delta-e"),
         (["recommend", "--force-levels", "100,150"], "do not cover the mean-force band"),
@@ -100,14 +100,20 @@ def test_recommend_compare_paper(tmp_path):
 
 
 def test_progress_shows_only_after_its_delay_and_on_a_terminal(capsys, monkeypatch):
-    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
-    quiet, shown = Progress(delay=3600.0), Progress(delay=0.0)
-    quiet("form-finding")
+    import argparse
+
+    with Progress(True, delay=3600.0) as later:
+        later("form-finding")
     assert capsys.readouterr().err == ""
-    shown("form-finding")
-    shown.close()
+    with Progress(True, delay=0.0) as shown:
+        shown("form-finding")
     assert "form-finding" in capsys.readouterr().err
+    options = argparse.Namespace(quiet=False, progress=False)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
-    piped = Progress(delay=0.0)
-    piped("form-finding")
+    with progress(options) as piped:
+        piped("form-finding")
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    with progress(argparse.Namespace(quiet=True, progress=False)) as quiet:
+        quiet("form-finding")
     assert capsys.readouterr().err == ""

@@ -44,11 +44,15 @@ def test_tolerance_json(tmp_path):
     data = json.loads(result.stdout)
     assert data["tolerance_within"] == pytest.approx(0.05)
     assert data["tolerance_mm"][0] < data["presag_mm"] < data["tolerance_mm"][1]
+    # each interval belongs to the design printed beside it (issue 12: the nominal Δe design has none)
+    low, high = data["centre_optimum_tolerance_mm"]
+    assert low < data["centre_optimum_presag_mm"] < high
+    assert "nominal_tolerance_mm" not in data
 
 
 @pytest.mark.parametrize("args,words", [
-    (["robust", "--fm-band", "148:70"], "empty or inverted"),
-    (["robust", "--fm-band", "70"], "LOW:HIGH"),
+    (["robust", "--fm-band", "148:70"], "empty, inverted"),
+    (["robust", "--fm-band", "70"], "empty, inverted"),
     (["robust", "--risk", "var"], "is not one of"),
     (["tolerance", "--within", "abc"], "--within"),
     (["robust", "--shape", "per-dropper", "--step-mm", "2"], None),

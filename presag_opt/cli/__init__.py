@@ -20,11 +20,25 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="presag",
         description="Pre-sag design for simple railway overhead contact lines.",
+        epilog=common.GRAMMAR,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMAND_MODULES:
         module.register(subparsers)
+    for sub in subparsers.choices.values():
+        common.add_run_options(sub)
     return parser
+
+
+def _version() -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version("presag-opt")
+    except metadata.PackageNotFoundError:
+        return "unknown (not installed)"
 
 
 COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation]

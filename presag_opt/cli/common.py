@@ -1,24 +1,68 @@
-"""Shared pieces of the command line: running a handler, errors, tables, JSON."""
+"""Shared pieces of the command line: running a handler, errors, options, progress, tables, JSON.
+
+Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMAR`):
+
+- :func:`run` runs a handler: one-line errors, Ctrl-C (exit 130), a closed pipe (exit 141), the
+  form-finding cache;
+- :func:`add_run_options` adds ``--quiet``, ``--progress`` and ``--no-cache`` to a sub-command;
+- :func:`progress` gives the one progress display (tqdm on standard error) for long work;
+- :func:`band` and :func:`float_list` parse ``LOW:HIGH`` bands and ``A,B,C`` lists;
+- :func:`output_path` checks a ``--plot`` file before any work starts;
+- :func:`form_find_for` form-finds, saying beforehand when it will take long;
+- :func:`model_help` is the help line of a model argument, listing the built-in models;
+- :func:`print_warnings` prints the one-line warnings of a result.
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
 import math
+import os
 import sys
-from collections.abc import Callable, Sequence
-from typing import Any
+import tempfile
+import time
+from collections.abc import Callable, Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from presag_opt.errors import ConvergenceError, ModelError
 
+if TYPE_CHECKING:  # casadi is imported by the commands that form-find, not by this module
+    from presag_opt.static.discretisation import StaticSettings
+    from presag_opt.static.equilibrium import EquilibriumState
+    from presag_opt.system.catenary import Catenary
+
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
+EXIT_INTERRUPTED = 130
+"""128 + SIGINT, as a shell reports a program stopped by Ctrl-C."""
+EXIT_BROKEN_PIPE = 141
+"""128 + SIGPIPE, as a shell reports a program whose reader went away (``presag … | head``)."""
+
+PROGRESS_DELAY = 2.0
+"""Seconds of work before a progress display appears (shorter work shows none). [s]"""
+
+GRAMMAR = """\
+command-line grammar:
+  LOW:HIGH   a band, e.g. --fm-band 70:148 (N), --static-force 70:140 (N)
+  A,B,C      a list of values, e.g. --forces 50,100,150 (N)
+  units      are in each option's metavar (N, MM, M, KMH, PERCENT); one number for a band means LOW = HIGH
+  --quiet / --progress   no progress display / the display at once, even when standard error is not a terminal
+  --no-cache             do not read or write the form-finding cache (also: PRESAG_NO_CACHE=1; clear it with
+                         `presag cache --clear`)"""
+"""The grammar shared by every sub-command, printed as the epilog of ``presag --help``."""
 
 
 def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
-    """Run a sub-command handler, turning expected errors into a one-line message and exit code."""
+    """Run a sub-command handler, turning expected errors into a one-line message and exit code.
+
+    Sets up the form-finding cache first (see :func:`add_run_options`). A closed standard output
+    (the reader of a pipe went away) ends the program quietly with :data:`EXIT_BROKEN_PIPE`.
+    """
+    _configure_cache(args)
     try:
         return handler(args) or 0
     except ModelError as exc:
@@ -29,7 +73,89 @@ def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Name
         return EXIT_NOT_CONVERGED
     except KeyboardInterrupt:
         print("presag: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # Python would report the failed flush of stdout at exit; point stdout at /dev/null instead
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+
+
+def add_run_options(parser: argparse.ArgumentParser) -> None:
+    """Add ``--quiet``, ``--progress`` and ``--no-cache`` (every sub-command has them)."""
+    group = parser.add_argument_group("run options")
+    group.add_argument("--quiet", action="store_true", help="no progress display")
+    group.add_argument("--progress", action="store_true",
+                       help="show the progress display at once, even when standard error is not a terminal")
+    group.add_argument("--no-cache", action="store_true",
+                       help="do not read or write the form-finding cache (same as PRESAG_NO_CACHE=1)")
+
+
+def _configure_cache(args: argparse.Namespace) -> None:
+    from presag_opt.static import cache
+
+    off = getattr(args, "no_cache", False) or cache.cache_disabled_by_environment()
+    cache.use_cache(None if off else cache.default_cache_directory())
+
+
+def progress_enabled(args: argparse.Namespace) -> bool:
+    """Whether to show progress: ``--progress``, else not with ``--quiet``, else on a terminal only.
+
+    Raises
+    ------
+    ModelError
+        If both ``--quiet`` and ``--progress`` are given.
+    """
+    quiet, forced = getattr(args, "quiet", False), getattr(args, "progress", False)
+    if quiet and forced:
+        raise ModelError("give at most one of --quiet and --progress")
+    return forced or (not quiet and sys.stderr.isatty())
+
+
+class Progress:
+    """The progress display of long work: a tqdm bar on standard error.
+
+    Call it with a short message before each step (the signature of the API's ``progress``
+    callbacks); it shows the message, the steps done (of ``total`` if known) and the elapsed time.
+    Shown only after :data:`PROGRESS_DELAY` and only when :func:`progress_enabled`; use it as a
+    context manager so that the bar is closed. Standard output is untouched (JSON stays pure).
+
+    Parameters
+    ----------
+    enabled : bool
+        Whether to show anything.
+    total : int, optional
+        Number of steps, if known. [-]
+    delay : float
+        Seconds before the display appears. [s]
+    """
+
+    def __init__(self, enabled: bool, total: int | None = None, delay: float = PROGRESS_DELAY):
+        from tqdm import tqdm
+
+        self._bar = tqdm(total=total, file=sys.stderr, disable=not enabled, delay=delay, leave=False,
+                         dynamic_ncols=True, unit="step",
+                         bar_format="{desc}: {n_fmt}" + ("/{total_fmt}" if total else "") + " steps [{elapsed}]")
+        self._shown_after = time.monotonic() + delay
+        self._started = False
+
+    def __call__(self, message: str) -> None:
+        if self._started:
+            self._bar.update(1)
+        self._started = True
+        # tqdm's own refresh would ignore the delay; short work shows nothing
+        self._bar.set_description_str(message, refresh=time.monotonic() >= self._shown_after)
+
+    def __enter__(self) -> Progress:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._bar.close()
+
+
+def progress(args: argparse.Namespace, total: int | None = None) -> Progress:
+    """The :class:`Progress` display for a sub-command's options: off with ``--quiet``; with
+    ``--progress`` at once, else on a terminal after :data:`PROGRESS_DELAY`."""
+    return Progress(progress_enabled(args), total, delay=0.0 if getattr(args, "progress", False) else PROGRESS_DELAY)
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
@@ -81,5 +207,115 @@ def positive_float(text: str) -> float:
 
 
 def float_list(text: str) -> list[float]:
-    """argparse type: comma-separated numbers, e.g. ``50,100,150``."""
-    return [positive_float(part) for part in text.split(",") if part.strip()]
+    """argparse type: a list of values ``A,B,C`` (one value is a list of one).
+
+    A band ``LOW:HIGH`` where a list is expected is refused with a hint.
+    """
+    if ":" in text:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: this option takes a list of values A,B,C (e.g. 50,100,150); LOW:HIGH is the band syntax"
+        )
+    values = [positive_float(part) for part in text.split(",") if part.strip()]
+    if not values:
+        raise argparse.ArgumentTypeError(f"{text!r}: give at least one value, e.g. 50 or 50,100,150")
+    return values
+
+
+def band(text: str) -> tuple[float, float]:
+    """argparse type: a band ``LOW:HIGH`` (one value: LOW = HIGH); ranges are the API's to check.
+
+    A list ``A,B`` where a band is expected is refused with a hint.
+    """
+    if "," in text:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a band is written LOW:HIGH (e.g. {text.replace(',', ':')}); A,B,C is the list syntax"
+        )
+    parts = text.split(":")
+    if len(parts) > 2:
+        raise argparse.ArgumentTypeError(f"{text!r}: a band is written LOW:HIGH, e.g. 70:148")
+    low, high = (positive_float(p) for p in (parts * 2)[:2])
+    return low, high
+
+
+def output_path(text: str, option: str = "--plot") -> Path:
+    """Check an output file before the work starts; return the path that will be written.
+
+    The suffix selects the format and must be one matplotlib writes; a name without a suffix gets
+    ``.png``. The folder must exist and accept a new file (tried, not guessed: permissions,
+    read-only or virtual file systems such as /proc).
+
+    Raises
+    ------
+    ModelError
+        If the path names a folder, the folder is missing or not writable, or the format is unknown.
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    if text.endswith(("/", os.sep)) or Path(text).is_dir():
+        raise ModelError(f"{option} {text}: is a folder; give a file name such as {Path(text) / 'plot.png'}")
+    path = Path(text)
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if not path.suffix:
+        path = path.with_name(path.name + ".png")
+    elif path.suffix[1:].lower() not in formats:
+        raise ModelError(f"{option} {text}: unknown format {path.suffix!r}; valid: {', '.join('.' + f for f in sorted(formats))}")
+    folder = path.parent
+    if not folder.is_dir():
+        raise ModelError(f"{option} {text}: the folder {folder} does not exist")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".presag-probe-"):
+            pass
+    except OSError as exc:
+        raise ModelError(f"{option} {text}: cannot write into {folder} ({exc.strerror or exc})") from None
+    return path
+
+
+LONG_FORM_FINDING = 10.0
+"""Expected form-finding time above which a command says how long it will take. [s]"""
+
+
+def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
+    """Form-find for a command: say beforehand when it will take long (unless ``--quiet``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's options (``--quiet``).
+    catenary : Catenary
+        System model.
+    settings : StaticSettings
+        Numerical settings.
+    """
+    from presag_opt.static.equilibrium import form_find, form_find_estimate
+
+    n_nodes, seconds = form_find_estimate(catenary, settings)
+    if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
+        print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
+              "(Ctrl-C stops it)", file=sys.stderr, flush=True)
+    return form_find(catenary, settings)
+
+
+def _duration(seconds: float) -> str:
+    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
+
+
+def model_help(kind: str, default: str | None = None) -> str:
+    """Help line of a model argument: file or built-in name, listing the built-in ones.
+
+    Parameters
+    ----------
+    kind : str
+        ``catenaries``, ``pantographs``, ``cases`` or ``studies``.
+    default : str, optional
+        The default model, if any.
+    """
+    from presag_opt.system.loader import builtin_model_names
+
+    text = f"model file or built-in name ({', '.join(builtin_model_names(kind))})"
+    return text + (f"; default {default}" if default else "")
+
+
+def print_warnings(messages: Iterable[str]) -> None:
+    """Print each distinct warning as one line on standard error."""
+    for message in dict.fromkeys(messages):
+        print(f"presag: warning: {message}", file=sys.stderr)

@@ -6,12 +6,22 @@ import argparse
 import dataclasses
 import sys
 
-from presag_opt.cli.common import EXIT_NOT_CONVERGED, add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import (
+    EXIT_NOT_CONVERGED,
+    add_json_flag,
+    float_list,
+    form_find_for,
+    output_path,
+    positive_float,
+    print_json,
+    print_warnings,
+    progress,
+    table,
+)
 from typing import TYPE_CHECKING
 
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import form_find
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
@@ -91,6 +101,8 @@ def simulate_command(args: argparse.Namespace) -> int:
         if values is not None and not values:
             raise ModelError(f"{flag}: give at least one value (comma-separated)")
     case = _case(args)
+    if args.plot:
+        args.plot = str(output_path(args.plot))
     speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = _settings(args, case.settings)
@@ -101,7 +113,8 @@ def simulate_command(args: argparse.Namespace) -> int:
                 case, operation=dataclasses.replace(case.operation, static_force=force)).plan(speed, settings)
     # With automatic numerics the element length follows the speed: one form-found state per length.
     lengths = sorted({plan.settings.static.element_length for plan in plans.values()}, reverse=True)
-    states = {h: form_find(case.catenary, dataclasses.replace(settings.static, element_length=h)) for h in lengths}
+    states = {h: form_find_for(args, case.catenary, dataclasses.replace(settings.static, element_length=h))
+              for h in lengths}
     if len(plans) == 1:
         (speed, force), plan = next(iter(plans.items()))
         single = dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force))
@@ -147,8 +160,7 @@ def _report_verdicts(runs: list[dict], verdicts: list[list] | None, as_json: boo
 
 def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, state, settings) -> int:
     result = case.run(speed, state=state, settings=settings)
-    for line in result.warnings:
-        print(f"presag: warning: {line}", file=sys.stderr)
+    print_warnings(result.warnings)
     if args.plot:
         from presag_opt.plotting import plot_contact_force
 
@@ -167,26 +179,28 @@ def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, st
 
 
 def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: dict, settings) -> int:
-    from tqdm import tqdm
-
     from presag_opt.dynamics.batch import BatchResult, OperatingPoint, simulate_many
 
     aero = case.operation.aero_coefficient
     order = list(plans)
     outcomes, wall = {}, 0.0
-    with tqdm(total=len(order), desc="simulating", unit="run", file=sys.stderr, disable=None) as bar:
+    with progress(args, total=len(order)) as bar:
+        bar(f"simulating {len(order)} runs")
+
+        def finished(count: int) -> None:
+            for _ in range(count):
+                bar(f"simulating {len(order)} runs")
+
         for length, state in states.items():
             keys = [k for k in order if plans[k].settings.static.element_length == length]
             points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=aero) for v, f in keys]
             part = simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings,
-                                 progress=bar.update)
+                                 progress=finished)
             outcomes.update(zip(keys, part.runs))
             wall += part.wall_time
     batch = BatchResult(catenary_name=part.catenary_name, pantograph_names=part.pantograph_names,
                         runs=tuple(outcomes[k] for k in order), wall_time=wall, settings=settings)
-    for run in batch.runs:
-        for line in run.warnings:
-            print(f"presag: warning: {line}", file=sys.stderr)
+    print_warnings(line for run in batch.runs for line in run.warnings)
     if args.plot:
         from presag_opt.plotting import plot_batch_statistics
 

@@ -3,11 +3,20 @@
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 import warnings
 
-from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    band,
+    float_list,
+    model_help,
+    output_path,
+    positive_float,
+    print_json,
+    print_warnings,
+    progress,
+    table,
+)
 from presag_opt.errors import ModelError
 from presag_opt.design import (
     CASE_STUDY_BAND,
@@ -24,9 +33,6 @@ from presag_opt.design import (
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.validation import compare_with_paper
 
-PROGRESS_DELAY = 2.0
-"""Seconds of work after which progress is shown (on a terminal only). [s]"""
-
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the pre-sag sub-commands."""
@@ -39,11 +45,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--tension", metavar="CW/MW", default="9.8/9.8", help="contact/messenger wire tension in kN, e.g. 9.8/9.8 (default)")
     p.add_argument("--span", metavar="M", type=positive_float, default=CASE_STUDY_SPAN_LENGTH, help="span length in m (default 60)")
     p.add_argument("--static-force", metavar="N", type=positive_float, default=140.0, help="static contact force in N (default 140)")
-    p.add_argument("--k", type=positive_float, default=EMPIRICAL_K, help=f"factor k of eq. 1 (default {EMPIRICAL_K:g})")
+    p.add_argument("--k", metavar="FACTOR", type=positive_float, default=EMPIRICAL_K, help=f"factor k of eq. 1 (default {EMPIRICAL_K:g})")
     add_json_flag(p)
     p.set_defaults(handler=empirical_command)
 
-    band = CASE_STUDY_BAND
+    case = CASE_STUDY_BAND
     p = subparsers.add_parser(
         "recommend",
         help="recommend a pre-sag for an operating band (default: the paper's case study)",
@@ -53,20 +59,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--models", metavar="MODEL[,MODEL]", default=",".join(CASE_STUDY_MODELS),
-        help=f"comma-separated model files or built-in names (default {','.join(CASE_STUDY_MODELS)})",
+        help="a list of " + model_help("catenaries", ",".join(CASE_STUDY_MODELS)),
     )
     p.add_argument(
-        "--static-force", metavar="LOW,HIGH", type=float_list, default=[band.static_force_low, band.static_force_high],
-        help="static contact force band LOW,HIGH in N, or one value (default 70,140)",
+        "--static-force", metavar="N:N", type=band, default=(case.static_force_low, case.static_force_high),
+        help="static contact force band LOW:HIGH in N, or one value (default 70:140)",
     )
-    p.add_argument("--min-speed", metavar="KMH", type=positive_float, default=band.speed_low / KMH, help="lowest speed in km/h (default 0)")
-    p.add_argument("--max-speed", metavar="KMH", type=positive_float, default=band.speed_high / KMH, help="highest speed in km/h (default 90)")
+    p.add_argument("--min-speed", metavar="KMH", type=positive_float, default=case.speed_low / KMH, help="lowest speed in km/h (default 0)")
+    p.add_argument("--max-speed", metavar="KMH", type=positive_float, default=case.speed_high / KMH, help="highest speed in km/h (default 90)")
     p.add_argument(
-        "--aero", metavar="ALPHA", type=positive_float, default=band.aero_coefficient * KMH**2,
+        "--aero", metavar="N/(KMH)^2", type=positive_float, default=case.aero_coefficient * KMH**2,
         help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
     )
     p.add_argument("--method", metavar="{mid-mast,delta-e}", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
-    p.add_argument("--force-levels", metavar="F[,F...]", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
+    p.add_argument("--force-levels", metavar="N,N,...", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
     p.add_argument("--step", metavar="M", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
     p.add_argument("--elasticity-method", metavar="{active-set,newton}", default="active-set", help="nonlinear elasticity: active-set (default, fast) or newton")
     p.add_argument("--element-length", metavar="M", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
@@ -77,36 +83,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--recompute", action="store_true", help="also recompute the elasticity at the recommended pre-sag geometry")
     p.add_argument("--per-span", action="store_true", help="print the pre-sag of every span of the mixed layouts")
     p.add_argument("--compare-paper", action="store_true", help="add our Table 1, Table 2, Fig. 5b and recommendation beside the paper's")
-    p.add_argument("--plot", metavar="FILE", default=None, help="save S against F_m, both variants and layouts (like Fig. 5a)")
-    p.add_argument("--plot-single-curve", metavar="FILE", default=None, help="with --compare-paper: save the Fig. 5b study")
+    p.add_argument("--plot", metavar="FILE", default=None,
+                   help="save S against F_m, both variants and layouts (like Fig. 5a); the suffix sets the format")
+    p.add_argument("--plot-single-curve", metavar="FILE", default=None,
+                   help="with --compare-paper: save the Fig. 5b study; the suffix sets the format")
     add_json_flag(p)
     p.set_defaults(handler=recommend_command)
-
-
-class Progress:
-    """Progress messages on standard error, shown only on a terminal and after a delay.
-
-    Parameters
-    ----------
-    delay : float
-        Seconds of work before the first message is shown. [s]
-    """
-
-    def __init__(self, delay: float = PROGRESS_DELAY):
-        self.start = time.monotonic()
-        self.delay = delay
-        self.enabled = sys.stderr.isatty()
-        self.shown = False
-
-    def __call__(self, message: str) -> None:
-        if self.enabled and time.monotonic() - self.start >= self.delay:
-            print(f"\r\033[K{message} …", end="", file=sys.stderr, flush=True)
-            self.shown = True
-
-    def close(self) -> None:
-        """Clear the progress line."""
-        if self.shown:
-            print("\r\033[K", end="", file=sys.stderr, flush=True)
 
 
 def parse_tension(text: str) -> tuple[float, float]:
@@ -153,10 +135,7 @@ def empirical_command(args: argparse.Namespace) -> int:
 
 def operating_band(args: argparse.Namespace) -> OperatingBand:
     """The band from the command-line options (validated by :class:`OperatingBand`)."""
-    forces = args.static_force
-    if len(forces) not in (1, 2):
-        raise ModelError(f"--static-force has {len(forces)} values; give LOW,HIGH in N or one value")
-    low, high = (forces * 2)[:2] if len(forces) == 1 else forces
+    low, high = args.static_force
     return OperatingBand(
         static_force_low=low,
         static_force_high=high,
@@ -170,33 +149,30 @@ def recommend_command(args: argparse.Namespace) -> int:
     """``presag recommend``: the recommendation, optionally recomputed, compared and plotted."""
     if args.plot_single_curve and not args.compare_paper:
         raise ModelError("--plot-single-curve needs --compare-paper (the Fig. 5b study is part of the comparison)")
+    plot = output_path(args.plot) if args.plot else None
+    plot_single = output_path(args.plot_single_curve, "--plot-single-curve") if args.plot_single_curve else None
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     band = operating_band(args)
-    progress = Progress()
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
-        try:
-            common = dict(
-                step=args.step, elasticity_method=args.elasticity_method,
-                settings=StaticSettings(element_length=args.element_length), progress=progress,
-            )
-            result = recommend(
-                models=models, band=band, method=args.method, force_levels=args.force_levels,
-                nominal_span_length=args.span_length, recompute_at_recommended=args.recompute, **common,
-            )
-            comparison = compare_with_paper(result, **common) if args.compare_paper else None
-        finally:
-            progress.close()
-    for message in dict.fromkeys(str(w.message) for w in caught):
-        print(f"presag: warning: {message}", file=sys.stderr)
-    if args.plot:
+        common = dict(
+            step=args.step, elasticity_method=args.elasticity_method,
+            settings=StaticSettings(element_length=args.element_length), progress=report,
+        )
+        result = recommend(
+            models=models, band=band, method=args.method, force_levels=args.force_levels,
+            nominal_span_length=args.span_length, recompute_at_recommended=args.recompute, **common,
+        )
+        comparison = compare_with_paper(result, **common) if args.compare_paper else None
+    print_warnings(str(w.message) for w in caught)
+    if plot:
         from presag_opt.plotting import plot_presag_against_force
 
-        plot_presag_against_force(result, args.plot)
-    if args.plot_single_curve:
+        plot = plot_presag_against_force(result, plot)
+    if plot_single:
         from presag_opt.plotting import plot_single_curve_error
 
-        plot_single_curve_error(comparison.single_curve_errors, args.plot_single_curve)
+        plot_single = plot_single_curve_error(comparison.single_curve_errors, plot_single)
     if args.json:
         out = result.to_dict()
         if comparison is not None:
@@ -220,7 +196,7 @@ def recommend_command(args: argparse.Namespace) -> int:
             [(r.item, r.unit, r.ours, r.paper, r.difference, 100 * r.relative_difference) for r in comparison.rows],
             ["{}", "{}", "{:.3f}", "{:.3f}", "{:+.3f}", "{:+.1f}"],
         ))
-    for path in (args.plot, args.plot_single_curve):
+    for path in (plot, plot_single):
         if path:
             print(f"\nPlot saved to {path}")
     return 0

@@ -1,14 +1,26 @@
-"""``presag form-find`` and ``presag elasticity``."""
+"""``presag form-find``, ``presag elasticity`` and ``presag cache``."""
 
 from __future__ import annotations
 
 import argparse
+import os
 
-from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    float_list,
+    form_find_for,
+    model_help,
+    output_path,
+    positive_float,
+    print_json,
+    progress,
+    progress_enabled,
+    table,
+)
 from presag_opt.elasticity import DEFAULT_FORCES, elasticity_study
 from presag_opt.errors import ModelError
+from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 DEFAULT_MODEL = "st_9.8_ideal"
@@ -22,8 +34,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="form-find a catenary and print its dropper schedule",
         description=f"Form-find a catenary and print its dropper schedule. Built-in models: {models}.",
     )
-    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=f"model file or built-in name (default {DEFAULT_MODEL})")
-    p.add_argument("--span", type=int, default=None, help="print only this span (from 1)")
+    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
+    p.add_argument("--span", metavar="NUMBER", type=int, default=None, help="print only this span (counted from 1)")
     add_element_flag(p)
     add_json_flag(p)
     p.set_defaults(handler=form_find_command)
@@ -33,21 +45,37 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="elasticity curves of a span",
         description=f"Elasticity of a span at force levels (re-solved equilibria). Built-in models: {models}.",
     )
-    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=f"model file or built-in name (default {DEFAULT_MODEL})")
-    p.add_argument("--span", type=int, default=None, help="span number from 1 (default: the central span)")
-    p.add_argument("--forces", type=float_list, default=list(DEFAULT_FORCES), help="force levels in N, comma-separated (default 50,100,150,200)")
-    p.add_argument("--step", type=positive_float, default=0.5, help="point spacing of the nonlinear curves in m (default 0.5)")
+    p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
+    p.add_argument("--span", metavar="NUMBER", type=int, default=None,
+                   help="span counted from 1 (default: the central span)")
+    p.add_argument("--forces", metavar="N,N,...", type=float_list, default=list(DEFAULT_FORCES),
+                   help="force levels in N, a list A,B,C (default 50,100,150,200)")
+    p.add_argument("--step", metavar="M", type=positive_float, default=0.5,
+                   help="point spacing of the nonlinear curves in m (default 0.5)")
     p.add_argument("--linear", action="store_true", help="add the linear (tangent stiffness) curve, every 0.1 m")
-    p.add_argument("--presag", type=positive_float, default=None, help="override the model's pre-sag: mid-span pre-sag of the longest span in mm")
-    p.add_argument("--plot", metavar="FILE", default=None, help="save a plot of the curves (PNG, PDF or SVG)")
+    p.add_argument("--presag", metavar="MM", type=positive_float, default=None,
+                   help="override the model's pre-sag: mid-span pre-sag of the longest span in mm")
+    p.add_argument("--plot", metavar="FILE", default=None,
+                   help="save a plot of the curves; the suffix sets the format (.png, .pdf, .svg, ...; none: .png)")
     add_element_flag(p)
     add_json_flag(p)
     p.set_defaults(handler=elasticity_command)
 
+    p = subparsers.add_parser(
+        "cache",
+        help="show or clear the cache of form-found states",
+        description="Form-found states are cached in $XDG_CACHE_HOME/presag_opt (default ~/.cache/presag_opt), "
+        "keyed by the model's values, the settings, the package version and the code; --no-cache or "
+        f"{cache.CACHE_ENV_OFF}=1 turns the cache off.",
+    )
+    p.add_argument("--clear", action="store_true", help="delete the cached states")
+    p.set_defaults(handler=cache_command)
+
 
 def add_element_flag(parser: argparse.ArgumentParser) -> None:
     """Add ``--element-length``."""
-    parser.add_argument("--element-length", type=positive_float, default=0.5, help="longest element in m (default 0.5)")
+    parser.add_argument("--element-length", metavar="M", type=positive_float, default=0.5,
+                        help="longest element in m (default 0.5; valid 0.01-5, small values take long)")
 
 
 def span_index(args: argparse.Namespace, n_spans: int) -> int | None:
@@ -60,9 +88,10 @@ def span_index(args: argparse.Namespace, n_spans: int) -> int | None:
 
 
 def form_find_command(args: argparse.Namespace) -> int:
+    """Handler of ``presag form-find``."""
     catenary = load_catenary(args.model)
-    state = form_find(catenary, StaticSettings(element_length=args.element_length))
     span = span_index(args, catenary.layout.n_spans)
+    state = form_find_for(args, catenary, StaticSettings(element_length=args.element_length))
     rows = [r for r in state.dropper_schedule() if span is None or r.span == span + 1]
     arms = state.steady_arm_forces()
     if args.json:
@@ -87,17 +116,21 @@ def form_find_command(args: argparse.Namespace) -> int:
 
 
 def elasticity_command(args: argparse.Namespace) -> int:
+    """Handler of ``presag elasticity``."""
+    plot = output_path(args.plot) if args.plot else None
     catenary = load_catenary(args.model)
     if args.presag is not None:
         catenary = catenary.with_presag(args.presag * 1e-3 / max(catenary.layout.span_lengths))
-    state = form_find(catenary, StaticSettings(element_length=args.element_length))
-    study = elasticity_study(
-        state, span=span_index(args, catenary.layout.n_spans), forces=args.forces, step=args.step, linear=args.linear
-    )
-    if args.plot:
+    span = span_index(args, catenary.layout.n_spans)
+    progress_enabled(args)  # --quiet with --progress is refused before the work
+    state = form_find_for(args, catenary, StaticSettings(element_length=args.element_length))
+    with progress(args, total=len(args.forces) + args.linear) as report:
+        study = elasticity_study(state, span=span, forces=args.forces, step=args.step, linear=args.linear,
+                                 progress=report, workers=os.cpu_count() or 1)
+    if plot:
         from presag_opt.plotting import plot_elasticity
 
-        plot_elasticity(study, args.plot)
+        plot = plot_elasticity(study, plot)
     if args.json:
         print_json(study.to_dict())
         return 0
@@ -116,6 +149,21 @@ def elasticity_command(args: argparse.Namespace) -> int:
         rows,
         ["{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}", "{}"],
     ))
-    if args.plot:
-        print(f"\nPlot saved to {args.plot}")
+    for message in study.warnings:
+        print(f"warning: {message}")
+    if plot:
+        print(f"\nPlot saved to {plot}")
+    return 0
+
+
+def cache_command(args: argparse.Namespace) -> int:
+    """Handler of ``presag cache``: where the cache is and what it holds, or ``--clear``."""
+    folder = cache.default_cache_directory()
+    if args.clear:
+        print(f"removed {cache.clear(folder)} cached state(s) from {folder}")
+        return 0
+    files = sorted(folder.glob("state-*.npz")) if folder.is_dir() else []
+    size = sum(f.stat().st_size for f in files)
+    state = "off (--no-cache or " + cache.CACHE_ENV_OFF + ")" if cache.active_directory() is None else "on"
+    print(f"cache {folder}: {len(files)} state(s), {size / 1e6:.1f} MB; {state}")
     return 0

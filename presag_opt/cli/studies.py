@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from presag_opt.cli.common import add_json_flag, print_json, table
+from presag_opt.cli.common import add_json_flag, print_json, progress_enabled, table
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import builtin_model_names
 
@@ -30,9 +30,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="local worker processes (default: the CPU count; not with --scheduler)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run on instead (e.g. tcp://host:8786)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--progress", action="store_true",
-                   help="show the progress bar even when standard error is not a terminal")
     p.set_defaults(handler=sweep_command)
 
     p = subparsers.add_parser(
@@ -59,12 +56,9 @@ def sweep_command(args: argparse.Namespace) -> int:
     from presag_opt.studies.definition import load_study
     from presag_opt.studies.runner import run_study
 
-    if args.quiet and args.progress:
-        raise ModelError("give at most one of --quiet and --progress")
+    show = progress_enabled(args)
     definition = load_study(args.study)
-    progress = False if args.quiet else (True if args.progress else None)
-    outcome = run_study(definition, Path(args.out), workers=args.workers, scheduler=args.scheduler,
-                        progress=progress)
+    outcome = run_study(definition, Path(args.out), workers=args.workers, scheduler=args.scheduler, progress=show)
     print(f"{definition.name}: {outcome.runs_total} runs ({outcome.units_computed} of {outcome.units_total} units "
           f"computed now, the rest resumed), {outcome.runs_failed} failed; store {outcome.store}")
     return 0

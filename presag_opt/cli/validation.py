@@ -6,9 +6,8 @@ import argparse
 import dataclasses
 import sys
 
-from presag_opt.cli.common import add_json_flag, float_list, positive_float, print_json, table
+from presag_opt.cli.common import add_json_flag, float_list, form_find_for, positive_float, print_json, table
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import form_find
 from presag_opt.validation.en50318 import EN50318_RANGES, en50318_ranges, en50318_verdicts
 
 REFERENCE_CASE = "en50318_2002"
@@ -62,7 +61,7 @@ def en50318_command(args: argparse.Namespace) -> int:
     for plan in plans.values():
         length = plan.settings.static.element_length
         if length not in states:
-            states[length] = form_find(case.catenary, plan.settings.static)
+            states[length] = form_find_for(args, case.catenary, plan.settings.static)
     runs = []
     for speed in args.speed:
         if not args.json:

@@ -48,10 +48,21 @@ def mean_contact_force(
     float or ndarray
         F_m. [N]
 
+    Raises
+    ------
+    ModelError
+        If a force, speed or coefficient is not finite or is negative.
+
     References
     ----------
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, eq. (4).
     """
+    for name, value, unit in (("static_force", static_force, "N"), ("speed", speed, "m/s"),
+                              ("aero_coefficient", aero_coefficient, "N/(m/s)²")):
+        values = np.asarray(value, dtype=float)
+        if not np.all(np.isfinite(values)) or np.any(values < 0.0):
+            bad = values.ravel()[~(np.isfinite(values.ravel()) & (values.ravel() >= 0.0))][0]
+            raise ModelError(f"{name} = {bad:g} {unit} is outside the valid range [0, ∞) {unit} (finite)")
     return static_force + aero_coefficient * np.square(speed)
 
 

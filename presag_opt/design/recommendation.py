@@ -19,7 +19,7 @@ import multiprocessing
 import os
 import warnings
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -374,7 +374,11 @@ def recommend(
                 progress(f"{c.name}: form-finding and elasticity (in parallel)")
         context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
         with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-            return tuple(pool.map(_layout_job, *zip(*jobs)))
+            futures = [pool.submit(_layout_job, *job) for job in jobs]
+            for done, _ in enumerate(as_completed(futures), start=1):
+                if progress:
+                    progress(f"layouts done: {done}/{len(jobs)}")
+            return tuple(f.result() for f in futures)
 
     def recommended_rel(layouts: Sequence[LayoutRecommendation]) -> float:
         return float(np.mean([end for lay in layouts for end in lay.presag_rel_range]))

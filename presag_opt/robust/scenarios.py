@@ -22,6 +22,9 @@ from presag_opt.design.band import OperatingBand, mean_contact_force
 from presag_opt.errors import ModelError
 
 
+MAX_MEAN_FORCE = 1000.0
+"""Highest mean contact force of a design band (the elasticity is computed up to this and beyond). [N]"""
+
 @dataclass(frozen=True, kw_only=True)
 class ForceScenarios:
     """Mean contact forces the design must serve, with probabilities.
@@ -61,9 +64,10 @@ class ForceScenarios:
             Number of forces (the minimax design is exact at them; 17 puts them < 5 N apart on
             the case study's 70–148 N band). [-]
         """
-        if not (math.isfinite(low) and math.isfinite(high)) or not 0.0 < low < high:
+        if not (math.isfinite(low) and math.isfinite(high)) or not 0.0 < low < high <= MAX_MEAN_FORCE:
             raise ModelError(
-                f"F_m band = [{low:g}, {high:g}] N is empty or inverted; give 0 < low < high in N"
+                f"F_m band = [{low:g}, {high:g}] N is empty, inverted or too high; valid 0 < low < high <= "
+                f"{MAX_MEAN_FORCE:g} N"
             )
         if not 2 <= count <= 200:
             raise ModelError(f"count = {count} is outside the valid range [2, 200]")

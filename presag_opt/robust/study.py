@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import force_levels_for_band
+from presag_opt.errors import ModelError
 from presag_opt.design.section import section_elasticity
 from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.lp import RobustDesign, evaluate_design, robust_presag
@@ -42,8 +43,9 @@ class RobustStudy:
         The quasi-static Δe rule at the band centre, S = F_c·Δe(F_c), evaluated over the band.
     tolerance : ToleranceBand
         S_rel interval of the robust parabola within ``within`` of its worst-case optimum.
-    nominal_tolerance : ToleranceBand
-        The same for a design for the band centre alone (worst case over the single force F_c).
+    centre_tolerance : ToleranceBand
+        The same for the parabola that is optimal for the band centre F_c alone (its ``best``, the
+        minimum of R at F_c; not the nominal Δe design, which is quasi-static, not an optimum of R).
     reference_span : float
         Span length the absolute pre-sag is quoted for. [m]
     """
@@ -55,7 +57,7 @@ class RobustStudy:
     robust_parabola: RobustDesign
     nominal: RobustDesign
     tolerance: ToleranceBand
-    nominal_tolerance: ToleranceBand
+    centre_tolerance: ToleranceBand
     reference_span: float
 
     def to_dict(self) -> dict:
@@ -82,7 +84,9 @@ class RobustStudy:
             "nominal_mean_waviness_mm": self.nominal.mean_waviness(weights) * 1e3,
             "tolerance_mm": [self.tolerance.low * l_ref * 1e3, self.tolerance.high * l_ref * 1e3],
             "tolerance_within": self.tolerance.within,
-            "nominal_tolerance_mm": [self.nominal_tolerance.low * l_ref * 1e3, self.nominal_tolerance.high * l_ref * 1e3],
+            "centre_optimum_presag_mm": self.centre_tolerance.best * l_ref * 1e3,
+            "centre_optimum_tolerance_mm": [self.centre_tolerance.low * l_ref * 1e3,
+                                            self.centre_tolerance.high * l_ref * 1e3],
             "solver_status": self.robust.solver_status,
         }
 
@@ -127,6 +131,8 @@ def robust_study(
     """
     low, high = fm_band
     scenarios = scenarios or ForceScenarios.band(low, high)
+    if not 0.0 < within <= 2.0:  # before the form-finding, not after it
+        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
     risk = risk or Risk()
     levels = force_levels_for_band(min(low, scenarios.forces.min()), max(high, scenarios.forces.max()))
 
@@ -141,8 +147,9 @@ def robust_study(
     path = path_at(catenary)
     if relinearise:
         first = robust_presag(path, scenarios)
-        path = path_at(catenary.with_presag(first.presag_rel))
+        path = path_at(_within_model_range(catenary, first, fm_band))
     parabola = robust_presag(path, scenarios)
+    _within_model_range(catenary, parabola, fm_band)
     design = parabola if (shape == "parabola" and risk.measure == "minimax") else robust_presag(
         path, scenarios, shape=shape, risk=risk, buildability=buildability
     )
@@ -161,6 +168,21 @@ def robust_study(
         robust_parabola=parabola,
         nominal=nominal,
         tolerance=tolerance_band(path, scenarios, within),
-        nominal_tolerance=tolerance_band(path, single, within),
+        centre_tolerance=tolerance_band(path, single, within),
         reference_span=float(reference),
     )
+
+
+def _within_model_range(catenary, design: RobustDesign, fm_band: tuple[float, float]):
+    """The catenary at a design's pre-sag, or a ModelError when that pre-sag is outside the model's
+    range (0–5 ‰): the elasticity was computed at another geometry and the design cannot be built
+    from a model file, so the result is refused rather than reported."""
+    try:
+        return catenary.with_presag(design.presag_rel)
+    except ModelError:
+        longest = max(catenary.layout.span_lengths)
+        raise ModelError(
+            f"the robust pre-sag for F_m {fm_band[0]:g}–{fm_band[1]:g} N is S_rel = {design.presag_rel * 1e3:.2f} ‰ "
+            f"({design.presag_rel * longest * 1e3:.0f} mm on {longest:g} m), outside the model's valid range "
+            "0–5 ‰; narrow the force band"
+        ) from None

@@ -19,6 +19,7 @@ Equilibrium is ∂Π/∂x = 0 on the free degrees of freedom; the tangent stiffn
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import casadi as ca
@@ -108,8 +109,9 @@ def _spring_energy(disc: Discretisation, x, ks, ref):
     return energy
 
 
-def _element_functions() -> tuple[ca.Function, ca.Function]:
-    """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX).
+def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
+    """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX), and
+    the axial energy alone (the line search needs only the energy).
 
     Axial: the energy depends on the nodes only through d = x_b − x_a, so the function takes d (3),
     stiffness k, unstretched length L0 and the slack flag, and returns the energy, ∂/∂d (3) and
@@ -124,6 +126,8 @@ def _element_functions() -> tuple[ca.Function, ca.Function]:
     hess, grad = ca.hessian(energy, d)
     axial = ca.Function("axial_element", [d, k, L0, slack], [energy, grad, ca.vec(hess)],
                         ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy", "gradient", "hessian"])
+    axial_energy = ca.Function("axial_energy", [d, k, L0, slack], [energy],
+                               ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy"])
     r = ca.SX.sym("r", 9)
     ei, h1, h2 = ca.SX.sym("ei"), ca.SX.sym("h1"), ca.SX.sym("h2")
     curvature = (r[6:9] - r[3:6]) / h2 - (r[3:6] - r[0:3]) / h1
@@ -131,10 +135,57 @@ def _element_functions() -> tuple[ca.Function, ca.Function]:
     hess, grad = ca.hessian(energy, r)
     bending = ca.Function("bending_triple", [r, ei, h1, h2], [energy, grad, ca.vec(hess)],
                           ["x", "bending_stiffness", "spacing_ab", "spacing_bc"], ["energy", "gradient", "hessian"])
-    return axial, bending
+    return axial, bending, axial_energy
 
 
-_AXIAL, _BENDING = _element_functions()
+_AXIAL, _BENDING, _AXIAL_ENERGY = _element_functions()
+
+
+class _MappedCall:
+    """A mapped CasADi function evaluated through its buffer interface.
+
+    ``Function.__call__`` converts every numpy input to a DM and every DM output back through Python
+    lists, which cost more than the evaluation itself in the Newton loops of the elasticity (about
+    two thirds of ``presag elasticity``). The buffer interface reads and writes numpy arrays in
+    place. One instance per thread (see :func:`_mapped_call`), since the buffers are shared state.
+
+    Parameters
+    ----------
+    function : casadi.Function
+        A mapped function whose inputs and outputs are dense (rows × elements).
+    """
+
+    def __init__(self, function: ca.Function):
+        self.buffer, self.trigger = function.buffer()
+        # CasADi stores an (rows × n) matrix column-major, i.e. as a C-ordered (n × rows) array
+        self.inputs = [np.zeros((function.size2_in(i), function.size1_in(i))) for i in range(function.n_in())]
+        self.outputs = [np.zeros((function.size2_out(i), function.size1_out(i))) for i in range(function.n_out())]
+        for i, a in enumerate(self.inputs):
+            self.buffer.set_arg(i, memoryview(a))
+        for i, a in enumerate(self.outputs):
+            self.buffer.set_res(i, memoryview(a))
+
+    def __call__(self, *inputs: np.ndarray) -> list[np.ndarray]:
+        """Evaluate; inputs and returned outputs are (rows × elements) arrays (the outputs are copies)."""
+        for buffer, value in zip(self.inputs, inputs):
+            np.copyto(buffer, np.asarray(value).T)
+        self.trigger()
+        return [out.T.copy() for out in self.outputs]
+
+
+_CALLS = threading.local()
+
+
+def _mapped_call(function: ca.Function) -> _MappedCall:
+    """This thread's buffered evaluator of a mapped element function (kept by the function's name,
+    which holds the element count, so that a :class:`PotentialFunctions` stays picklable)."""
+    calls = _CALLS.__dict__.setdefault("calls", {})
+    key = function.name()
+    if key not in calls:
+        if len(calls) >= 16:  # a few discretisations at a time; drop the oldest
+            calls.pop(next(iter(calls)))
+        calls[key] = _MappedCall(function)
+    return calls[key]
 
 # Entry (i, j) of the 6×6 element Hessian, column-major (j·6 + i), from the 3×3 one in d = x_b − x_a:
 # H6[i, j] = σ_i σ_j H3[i mod 3, j mod 3] with σ = −1 on node a, +1 on node b.
@@ -166,6 +217,7 @@ class PotentialFunctions:
     free_dofs: np.ndarray
     solver: BandedSolver
     _axial: ca.Function
+    _axial_energy: ca.Function
     _bending: ca.Function | None
     _axial_dofs: np.ndarray  # (6, n_axial)
     _bending_dofs: np.ndarray  # (9, n_bending)
@@ -178,12 +230,15 @@ class PotentialFunctions:
     def _element_terms(self, x: np.ndarray, params: PhysicalParameters):
         """Energies, gradients (6 per element) and Hessian entries (36 per element, in the order of
         ``_hessian_slots``) of the axial elements (one mapped CasADi call)."""
-        chord = x[self._axial_dofs[3:]] - x[self._axial_dofs[:3]]
-        energy, grad, hess = (np.asarray(v) for v in self._axial(
-            chord, params.axial_stiffness[None, :], params.unstretched_length[None, :], params.slack_allowed[None, :]))
+        energy, grad, hess = _mapped_call(self._axial)(*self._axial_inputs(x, params))
         grad6 = np.vstack([-grad, grad])
         hess6 = _AXIAL_SIGNS[:, None] * hess[_AXIAL_ENTRY]
         return energy.ravel(), grad6.ravel(), hess6.ravel()
+
+    def _axial_inputs(self, x: np.ndarray, params: PhysicalParameters) -> tuple[np.ndarray, ...]:
+        """Inputs of the mapped axial functions: chords x_b − x_a (3 × elements) and the parameters."""
+        chord = x[self._axial_dofs[3:]] - x[self._axial_dofs[:3]]
+        return chord, params.axial_stiffness[None, :], params.unstretched_length[None, :], params.slack_allowed[None, :]
 
     def _bending_terms(self, params: PhysicalParameters) -> tuple[sp.csr_matrix, np.ndarray]:
         """The bending energy is quadratic: its (constant) Hessian on all DOFs and its entries in
@@ -262,7 +317,7 @@ class PotentialFunctions:
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
         """Total potential energy. [J]"""
         disc = self.discretisation
-        total = -float(params.nodal_force @ x) + float(self._element_terms(x, params)[0].sum())
+        total = -float(params.nodal_force @ x) + float(_mapped_call(self._axial_energy)(*self._axial_inputs(x, params))[0].sum())
         if self._bending is not None:
             total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
         if len(disc.spring_dofs):
@@ -327,6 +382,7 @@ def build_potential(disc: Discretisation) -> PotentialFunctions:
         free,
         BandedSolver.for_pattern(pattern),
         _AXIAL.map(len(ax)),
+        _AXIAL_ENERGY.map(len(ax)),
         _BENDING.map(len(b.node_a)) if len(b.node_a) else None,
         axial_dofs,
         bending_dofs,

@@ -60,6 +60,11 @@ def resolve_model_path(name_or_path: str | Path, kind: str = "catenaries") -> Pa
     ModelError
         If neither a file nor a built-in model of that name exists.
     """
+    if not isinstance(name_or_path, (str, Path)):
+        raise ModelError(
+            f"model = {name_or_path!r} ({type(name_or_path).__name__}): give a model file path or the name of a "
+            f"built-in {_singular(kind)} model ({', '.join(builtin_model_names(kind))})"
+        )
     path = Path(name_or_path)
     if path.is_file():
         return path
@@ -67,9 +72,14 @@ def resolve_model_path(name_or_path: str | Path, kind: str = "catenaries") -> Pa
     if candidate.is_file():
         return Path(str(candidate))
     raise ModelError(
-        f"model {str(name_or_path)!r} is neither a file nor a built-in {kind[:-1] if kind.endswith('s') else kind} "
+        f"model {str(name_or_path)!r} is neither a file nor a built-in {_singular(kind)} "
         f"model ({', '.join(builtin_model_names(kind))})"
     )
+
+
+def _singular(kind: str) -> str:
+    """``catenaries`` -> ``catenary``, ``cases`` -> ``case``."""
+    return {"catenaries": "catenary", "studies": "study"}.get(kind, kind.removesuffix("s"))
 
 
 def read_toml(path: Path) -> dict[str, Any]:
@@ -79,6 +89,8 @@ def read_toml(path: Path) -> dict[str, Any]:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"{path.name}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{path.name}: not UTF-8 text (byte {exc.start}); save the model file as UTF-8") from None
     except OSError as exc:
         raise ModelError(f"{path.name}: cannot be read ({exc.strerror})") from None
 

@@ -63,7 +63,7 @@ def test_json_and_plot_match_the_api_in_user_units(capsys, tmp_path, st98):
 
 
 def test_case_files_load_with_their_documented_values():
-    """DESIGN 4.3: 115 N, no aerodynamics, 250 and 300 km/h, two central spans, 20 Hz. The case
+    """docs/assumptions.md §4.3: 115 N, no aerodynamics, 250 and 300 km/h, two central spans, 20 Hz. The case
     study: ST 9,8/9,8 ideal spans, 120 N, 0.00097 N/(km/h)² (12.57 mN/(m/s)²), the paper's speeds."""
     en = load_case("en50318_2002")
     assert en.catenary.name == "EN 50318-style reference catenary"

@@ -38,7 +38,7 @@ def test_builtin_pantographs_are_listed():
 
 
 def test_en50318_pantograph_matrices():
-    """DESIGN 4.3: head 7.2 kg on 4200 N/m and 10 N·s/m over frame 15 kg on 50 N/m and 90 N·s/m.
+    """docs/assumptions.md §4.3: head 7.2 kg on 4200 N/m and 10 N·s/m over frame 15 kg on 50 N/m and 90 N·s/m.
     Exact: the matrices are sums of the file's numbers."""
     pantograph = load_pantograph("en50318_2mass")
     np.testing.assert_array_equal(pantograph.mass_matrix(), np.diag([7.2, 15.0]))
@@ -51,7 +51,7 @@ def test_en50318_pantograph_matrices():
 
 
 def test_case_study_pantograph_has_frame_friction_and_no_frame_spring():
-    """DESIGN 4.2, all values assumed except the paper's 50 kN/m contact stiffness."""
+    """docs/assumptions.md §4.2: all values assumed except the paper's 50 kN/m contact stiffness."""
     pantograph = load_pantograph("case_study_2mass_friction")
     head, frame = pantograph.stages
     assert (head.mass, head.stiffness, head.damping) == (7.2, 4200.0, 10.0)

@@ -72,8 +72,9 @@ def test_infeasible_buildability_is_a_clear_error(path, scenarios):
 
 
 @pytest.mark.parametrize("call,words", [
-    (lambda: ForceScenarios.band(148.0, 70.0), "empty or inverted"),
-    (lambda: ForceScenarios.band(70.0, 70.0), "empty or inverted"),
+    (lambda: ForceScenarios.band(148.0, 70.0), "empty, inverted"),
+    (lambda: ForceScenarios.band(70.0, 70.0), "empty, inverted"),
+    (lambda: ForceScenarios.band(70.0, 1500.0), "too high"),
     (lambda: Risk.parse("var:0.9"), "is not one of"),
     (lambda: Risk.parse("cvar:1.5"), "risk level"),
 ])

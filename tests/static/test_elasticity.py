@@ -109,7 +109,7 @@ def test_study_to_dict_has_the_documented_keys(st98):
 
 @pytest.mark.parametrize("kwargs,words", [
     (dict(force=0.0), "force = 0 N"),
-    (dict(force=100.0, span=10), "span = 11"),
+    (dict(force=100.0, span=10), "span = 10 is outside the valid range"),
     (dict(force=100.0, step=0.0), "step = 0 m"),
     (dict(force=100.0, method="secant"), "method = 'secant'"),
 ])

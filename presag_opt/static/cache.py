@@ -1,0 +1,138 @@
+"""On-disk cache of form-found states.
+
+Form-finding (an IPOPT solve, and building the solver) is the largest fixed cost of the everyday
+commands, and its result depends only on the catenary, the static settings and the code. The cache
+keeps the numeric part of an :class:`~presag_opt.static.equilibrium.EquilibriumState` (coordinates
+and element parameters) in one ``.npz`` file per key; the discretisation and the compiled functions
+are rebuilt from the catenary, which is cheap.
+
+The key is a SHA-256 over the catenary's ``repr`` (every value in SI, so editing a number in a model
+file changes it; comments and provenance notes do not), the settings' ``repr``, the package and
+CasADi versions and the source text of the modules the result depends on (``system`` and
+``static``), so a code change invalidates every entry. A file that cannot be read, or whose arrays
+do not fit the model, counts as a miss and is rewritten.
+
+The library does not cache unless told to (:func:`use_cache`); the ``presag`` command line turns the
+cache on in the user's cache directory (:func:`default_cache_directory`) unless ``--no-cache`` is
+given or ``PRESAG_NO_CACHE`` is set.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+import zipfile
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+CACHE_ENV_OFF = "PRESAG_NO_CACHE"
+"""Environment variable that turns the command line's cache off when set to anything but ``0`` or ``""``."""
+
+_SOURCE_PARTS = ("system", "static")
+"""Parts of the package whose code determines a form-found state."""
+
+MAX_ENTRIES = 32
+"""Cached states kept; the least recently used beyond this are deleted (a code change or a new model
+starts new entries, and a mixed section takes about 0.5 MB). [-]"""
+
+_active: Path | None = None
+
+
+def default_cache_directory() -> Path:
+    """``$XDG_CACHE_HOME/presag_opt``, or ``~/.cache/presag_opt``."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "presag_opt"
+
+
+def cache_disabled_by_environment() -> bool:
+    """Whether ``PRESAG_NO_CACHE`` asks for no cache."""
+    return os.environ.get(CACHE_ENV_OFF, "") not in ("", "0")
+
+
+def use_cache(directory: str | Path | None) -> None:
+    """Cache form-found states in ``directory`` from now on (None: no cache, the default)."""
+    global _active
+    _active = None if directory is None else Path(directory)
+
+
+def active_directory() -> Path | None:
+    """The directory in use, or None."""
+    return _active
+
+
+def clear(directory: str | Path) -> int:
+    """Delete the cache files in ``directory``; return how many were deleted."""
+    folder = Path(directory)
+    removed = 0
+    for path in folder.glob("state-*.npz") if folder.is_dir() else ():
+        path.unlink(missing_ok=True)
+        removed += 1
+    return removed
+
+
+def _code_fingerprint() -> str:
+    package = Path(__file__).resolve().parents[1]
+    digest = hashlib.sha256()
+    for part in _SOURCE_PARTS:
+        for path in sorted((package / part).glob("*.py")):
+            digest.update(path.name.encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def state_key(catenary: object, settings: object) -> str:
+    """The key of a form-found state: a hex digest over everything the result depends on."""
+    import casadi
+
+    try:
+        version = metadata.version("presag-opt")
+    except metadata.PackageNotFoundError:
+        version = "unknown"
+    digest = hashlib.sha256()
+    for text in (repr(catenary), repr(settings), version, casadi.__version__, _code_fingerprint()):
+        digest.update(text.encode())
+        digest.update(b"\0")
+    return digest.hexdigest()
+
+
+def contains(key: str) -> bool:
+    """Whether the active directory holds a file for ``key`` (it may still turn out unreadable)."""
+    return _active is not None and (_active / f"state-{key}.npz").is_file()
+
+
+def load(key: str) -> dict[str, np.ndarray] | None:
+    """The arrays stored under ``key`` in the active directory, or None (no cache, a miss, or an
+    unreadable file)."""
+    if _active is None:
+        return None
+    path = _active / f"state-{key}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in data.files}
+        os.utime(path)  # recently used: pruned last
+        return arrays
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError):
+        return None  # missing, or corrupt or truncated: the caller recomputes and store() rewrites it
+
+
+def store(key: str, arrays: dict[str, np.ndarray]) -> None:
+    """Write the arrays under ``key`` (atomically; a cache that cannot be written is skipped)."""
+    if _active is None:
+        return
+    try:
+        _active.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=_active, suffix=".tmp")
+    except OSError:
+        return  # a read-only cache directory must not stop the computation
+    try:
+        with os.fdopen(handle, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(temporary, _active / f"state-{key}.npz")
+        entries = sorted(_active.glob("state-*.npz"), key=lambda p: p.stat().st_mtime, reverse=True)
+        for stale in entries[MAX_ENTRIES:]:
+            stale.unlink(missing_ok=True)
+    except OSError:
+        Path(temporary).unlink(missing_ok=True)  # a full disk must not stop it either

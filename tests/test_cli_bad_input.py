@@ -1,0 +1,291 @@
+"""The catalogue of bad and borderline input (issue 12): every case a user hit, run as the user runs it
+(the installed console script, from a folder outside the source tree), plus the matching Python API
+errors. Each case must end with a clear one-line reason, a documented warning, or the right result;
+never a traceback, a hang without a word, or a silent wrong answer."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from presag_opt.errors import ModelError
+
+SCRIPT = Path(sys.executable).parent / "presag"
+REPOSITORY = Path(__file__).resolve().parents[1]
+
+
+def presag(*args: str, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
+    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
+    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=timeout)
+
+
+def one_error_line(result: subprocess.CompletedProcess) -> str:
+    """The last line of standard error, after checking that the run failed cleanly with status 2."""
+    assert result.returncode == 2, (result.returncode, result.stderr)
+    assert "Traceback" not in result.stderr
+    return result.stderr.strip().splitlines()[-1]
+
+
+# ----- 1. progress ---------------------------------------------------------------------------------
+
+
+def test_progress_goes_to_stderr_and_json_stays_pure(tmp_path):
+    result = presag("elasticity", "--forces", "100,150", "--step", "10", "--progress", "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    json.loads(result.stdout)  # nothing but the JSON object on standard output
+    assert "elasticity" in result.stderr and "2/2" in result.stderr
+
+
+def test_quiet_and_progress_exclude_each_other(tmp_path):
+    assert "at most one of --quiet and --progress" in one_error_line(
+        presag("elasticity", "--quiet", "--progress", cwd=tmp_path))
+
+
+# ----- 2. cache ------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def cache_folder(tmp_path):
+    from presag_opt.static import cache
+
+    folder = tmp_path / "cache"
+    cache.use_cache(folder)
+    yield folder
+    cache.use_cache(None)
+
+
+def _small_model(tmp_path: Path, height: float = 5.3) -> Path:
+    """A three-span copy of the ST 9,8/9,8 ideal model (form-finds in about a second)."""
+    text = (REPOSITORY / "models" / "catenaries" / "st_9.8_ideal.toml").read_text()
+    out = []
+    for line in text.splitlines():
+        if line.startswith("span_count"):
+            line = 'span_count = { value = 3, unit = "-", source = "assumed" }'
+        if line.startswith("contact_wire_height"):
+            line = f'contact_wire_height = {{ value = {height}, unit = "m", source = "assumed" }}'
+        out.append(line)
+    path = tmp_path / "small.toml"
+    path.write_text("\n".join(out) + "\n")
+    return path
+
+
+def test_cache_returns_the_same_state_and_a_changed_model_is_recomputed(tmp_path, cache_folder, monkeypatch):
+    from presag_opt.static import equilibrium
+    from presag_opt.system.loader import load_catenary
+
+    model = _small_model(tmp_path)
+    assert "span_count = { value = 3" in model.read_text()
+    first = equilibrium.form_find(load_catenary(model))
+    assert len(list(cache_folder.glob("state-*.npz"))) == 1
+
+    def no_solve(*args):
+        raise AssertionError("form-finding ran although the state is cached")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(equilibrium, "_form_find", no_solve)
+        again = equilibrium.form_find(load_catenary(model))
+    np.testing.assert_array_equal(again.positions, first.positions)
+    np.testing.assert_array_equal(again.params.unstretched_length, first.params.unstretched_length)
+
+    changed = equilibrium.form_find(load_catenary(_small_model(tmp_path, height=5.5)))  # the file edited
+    assert len(list(cache_folder.glob("state-*.npz"))) == 2
+    assert changed.positions[:, 2].max() > first.positions[:, 2].max()
+
+
+def test_a_corrupt_cache_file_is_ignored_and_rewritten(tmp_path, cache_folder):
+    from presag_opt.static.equilibrium import form_find
+    from presag_opt.system.loader import load_catenary
+
+    catenary = load_catenary(_small_model(tmp_path))
+    reference = form_find(catenary)
+    (entry,) = cache_folder.glob("state-*.npz")
+    entry.write_bytes(b"not a zip file")
+    state = form_find(catenary)
+    np.testing.assert_array_equal(state.positions, reference.positions)
+    with np.load(entry) as data:  # rewritten as a readable file
+        np.testing.assert_array_equal(data["positions"], reference.positions)
+
+
+def test_cache_keeps_the_most_recently_used_entries(cache_folder):
+    from presag_opt.static import cache
+
+    for i in range(cache.MAX_ENTRIES + 3):
+        cache.store(f"key{i}", {"positions": np.full(3, float(i))})
+    assert len(list(cache_folder.glob("state-*.npz"))) == cache.MAX_ENTRIES
+    assert cache.load("key0") is None and cache.load(f"key{cache.MAX_ENTRIES + 2}") is not None
+
+
+def test_cache_command_clears(tmp_path):
+    env_home = tmp_path / "home-cache"
+    run = subprocess.run([str(SCRIPT), "form-find", "--span", "1", "--json"], capture_output=True, text=True,
+                         cwd=tmp_path, env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert len(list((env_home / "presag_opt").glob("state-*.npz"))) == 1
+    cleared = subprocess.run([str(SCRIPT), "cache", "--clear"], capture_output=True, text=True, cwd=tmp_path,
+                             env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=60)
+    assert cleared.returncode == 0 and "removed 1 cached state" in cleared.stdout
+    assert not list((env_home / "presag_opt").glob("state-*.npz"))
+
+
+# ----- 3. inputs inside the advertised ranges -----------------------------------------------------
+
+
+def test_fine_elements_say_how_long_and_ctrl_c_stops_cleanly(tmp_path):
+    process = subprocess.Popen([str(SCRIPT), "form-find", "--element-length", "0.01", "--no-cache"], cwd=tmp_path,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = process.stderr.readline()  # announced before the work starts
+    assert "form-finding" in first and "takes about" in first and "Ctrl-C" in first
+    time.sleep(1.0)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130
+    assert err.strip().splitlines() == ["presag: interrupted"]
+    assert out == ""
+
+
+def test_robust_design_beyond_the_model_range_is_refused(tmp_path):
+    line = one_error_line(presag("robust", "--fm-band", "1:1000", cwd=tmp_path))
+    assert "outside the model's valid range 0–5 ‰" in line
+
+
+def test_elasticity_beyond_the_system_height_carries_a_warning(tmp_path):
+    table = presag("elasticity", "--forces", "100,2000", "--step", "10", cwd=tmp_path)
+    assert table.returncode == 0, table.stderr
+    warning = [line for line in table.stdout.splitlines() if line.startswith("warning:")]
+    assert len(warning) == 1 and "F = 2000 N" in warning[0] and "system height 1200 mm" in warning[0]
+    data = json.loads(presag("elasticity", "--forces", "2000", "--step", "10", "--json", cwd=tmp_path).stdout)
+    assert data["warnings"] == [warning[0].removeprefix("warning: ")]
+
+
+# ----- 4. output paths checked before the work ----------------------------------------------------
+
+
+@pytest.mark.parametrize(("command", "plot", "words"), [
+    ("elasticity", "/nonexistent/dir/x.png", "does not exist"),
+    ("recommend", "/proc/x.png", "cannot write into /proc"),
+    ("tolerance", "x.xyz", "unknown format '.xyz'"),
+    ("elasticity", "some/", "is a folder"),
+])
+def test_bad_plot_paths_are_refused_before_the_work(tmp_path, command, plot, words):
+    (tmp_path / "some").mkdir()
+    line = one_error_line(presag(command, "--plot", plot, "--no-cache", cwd=tmp_path))
+    assert words in line and line.startswith("presag: error: --plot")
+    assert not list(tmp_path.glob("*.png")) and not list((tmp_path / "some").iterdir())
+
+
+def test_plot_without_suffix_reports_the_file_written(tmp_path):
+    result = presag("elasticity", "--forces", "100", "--step", "5", "--plot", "name", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "name.png").is_file()
+    assert "Plot saved to name.png" in result.stdout
+
+
+# ----- 5. no tracebacks ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("content", [b"\xff\xfe[\x00s\x00y\x00", bytes(range(256))])
+def test_model_file_that_is_not_utf8(tmp_path, content):
+    (tmp_path / "model.toml").write_bytes(content)
+    assert "not UTF-8 text" in one_error_line(presag("form-find", "model.toml", cwd=tmp_path))
+
+
+def test_broken_pipe_ends_quietly(tmp_path):
+    result = subprocess.run(f"'{SCRIPT}' elasticity --forces 100 --step 5 --json | head -c 10", shell=True,
+                            capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert result.stdout == "{\n  \"caten"
+    assert result.stderr == ""
+
+
+def test_api_errors_are_model_errors():
+    import presag_opt
+
+    with pytest.raises(ModelError, match="model = None"):
+        presag_opt.load_catenary(None)
+    with pytest.raises(ModelError, match="catenary must be a Catenary, not str 'st_9.8_ideal'"):
+        presag_opt.form_find("st_9.8_ideal")
+    for bad in (math.nan, -1.0, math.inf):
+        with pytest.raises(ModelError, match="static_force = .* N is outside the valid range"):
+            presag_opt.mean_contact_force(bad, 10.0, 0.01)
+    with pytest.raises(ModelError, match="speed = inf m/s"):
+        presag_opt.mean_contact_force(100.0, math.inf, 0.01)
+    with pytest.raises(ModelError, match="built-in catenary model"):
+        presag_opt.load_catenary("no_such_model")
+
+
+def test_linear_elasticity_counts_spans_from_zero_in_argument_and_message(st98):
+    from presag_opt.elasticity import linear_elasticity
+
+    first = linear_elasticity(st98, span=0, step=5.0)  # span 0 is the first span
+    assert first.span == 0
+    with pytest.raises(ModelError, match=r"span = 10 is outside the valid range \[0, 9\]"):
+        linear_elasticity(st98, span=10)
+    with pytest.raises(ModelError, match=r"span = -1 is outside"):
+        linear_elasticity(st98, span=-1)
+
+
+# ----- 6. one grammar -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (["recommend", "--static-force", "70,140"], "a band is written LOW:HIGH (e.g. 70:140)"),
+    (["robust", "--fm-band", "70,148"], "a band is written LOW:HIGH (e.g. 70:148)"),
+    (["elasticity", "--forces", "50:100"], "list of values A,B,C"),
+    (["tolerance", "--within", "ten"], "write a percentage such as 10"),
+])
+def test_the_other_syntax_gets_a_hint(tmp_path, args, words):
+    assert words in one_error_line(presag(*args, cwd=tmp_path))
+
+
+def test_within_is_a_percentage_with_or_without_the_sign():
+    from presag_opt.cli.robust import parse_within
+
+    assert parse_within("10") == parse_within("10%") == pytest.approx(0.10)
+
+
+def test_version_and_grammar_in_help(tmp_path):
+    version = presag("--version", cwd=tmp_path)
+    assert version.returncode == 0 and version.stdout.startswith("presag ")
+    assert "LOW:HIGH" in presag("--help", cwd=tmp_path).stdout
+
+
+def test_every_option_has_help_and_a_metavar_with_a_unit():
+    from presag_opt.cli import build_parser
+
+    parser = build_parser()
+    (sub,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    for name, command in sub.choices.items():
+        for action in command._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            assert action.help, f"presag {name} {action.option_strings or action.dest} has no help line"
+            if action.option_strings and action.nargs != 0 and not action.choices:
+                assert action.metavar, f"presag {name} {action.option_strings[0]} has no metavar"
+
+
+def test_pantograph_and_model_arguments_list_the_built_in_models():
+    from presag_opt.cli.common import model_help
+
+    assert "st_9.8_ideal" in model_help("catenaries") and "en50318_2mass" in model_help("pantographs")
+
+
+# ----- 8. the project documents itself ------------------------------------------------------------
+
+
+def test_nothing_cites_a_file_outside_the_repository():
+    cited = []
+    for folder in ("models", "tests", "presag_opt", "docs"):
+        for path in (REPOSITORY / folder).rglob("*"):
+            if path.suffix in (".py", ".toml", ".md") and path != Path(__file__).resolve():
+                if "DESIGN" in path.read_text(encoding="utf-8"):
+                    cited.append(str(path.relative_to(REPOSITORY)))
+    assert not cited
+    assert (REPOSITORY / "docs" / "assumptions.md").is_file()
