@@ -21,6 +21,7 @@ from presag_opt.dynamics import batch_newton, kernel
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, recorded_droppers, static_contact
 from presag_opt.dynamics.structure import StructuralModel
+from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linalg import BandedSolver
@@ -282,6 +283,6 @@ def _influence_columns(factor_band: np.ndarray, dofs: np.ndarray) -> np.ndarray:
         block = dofs[start : start + INFLUENCE_BLOCK]
         unit = np.zeros((n, len(block)))
         unit[block, np.arange(len(block))] = 1.0
-        kernel.band_cholesky_solve(factor_band, unit, len(block))
+        banded_cholesky_solve(factor_band, unit, len(block))
         out[start : start + len(block)] = unit.T
     return out

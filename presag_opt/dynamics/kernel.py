@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
@@ -89,38 +90,6 @@ def band_matvec(band, x, out, runs):
                 acc[b] += value * x[j - k, b]
         for b in range(runs):
             out[j, b] = acc[b]
-
-
-@njit(cache=True)
-def band_cholesky_solve(factor, x, runs):
-    """Solve L Lᵀ y = x in place for the first ``runs`` columns; factor[j, k] = L[j + k, j].
-
-    Forward and backward substitution in dot-product form (each row finished in one pass over the
-    bw rows before or after it), the runs innermost.
-    """
-    n, width = factor.shape
-    bw = width - 1
-    acc = np.empty(runs)
-    for j in range(n):
-        for b in range(runs):
-            acc[b] = x[j, b]
-        for k in range(1, min(bw, j) + 1):
-            value = factor[j - k, k]
-            for b in range(runs):
-                acc[b] -= value * x[j - k, b]
-        d = factor[j, 0]
-        for b in range(runs):
-            x[j, b] = acc[b] / d
-    for j in range(n - 1, -1, -1):
-        for b in range(runs):
-            acc[b] = x[j, b]
-        for k in range(1, min(bw, n - 1 - j) + 1):
-            value = factor[j, k]
-            for b in range(runs):
-                acc[b] -= value * x[j + k, b]
-        d = factor[j, 0]
-        for b in range(runs):
-            x[j, b] = acc[b] / d
 
 
 @njit(cache=True)

@@ -103,6 +103,8 @@ MANY_RIGHT_HAND_SIDES = 16
 def _banded_cholesky_solve(band: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """Solve L Lᵀ x = rhs with L in LAPACK's lower band storage (``band[i − j, j] = L[i, j]``), all
     columns of ``rhs`` in one sweep (LAPACK's ``pbtrs`` takes them one at a time, at level-2 speed)."""
-    from presag_opt.static._kernels import banded_cholesky_solve  # numba is imported only when needed
+    from presag_opt.static.kernels import banded_cholesky_solve  # numba is imported only when needed
 
-    return banded_cholesky_solve(np.ascontiguousarray(band), rhs)
+    x = np.array(rhs, dtype=float, order="C")
+    banded_cholesky_solve(np.ascontiguousarray(band.T), x, x.shape[1])
+    return x

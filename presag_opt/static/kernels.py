@@ -1,0 +1,54 @@
+"""Compiled banded substitutions (numba), shared by the static solves and the batch simulator.
+
+A symmetric positive definite matrix ordered along the track is a narrow band; its Cholesky factor
+L is stored here row by row, ``factor[j, k] = L[j + k, j]`` (the transpose of LAPACK's lower band
+storage), so that the entries a substitution step reads are adjacent in memory. The right-hand sides
+are the columns of a C-ordered array: the innermost loop runs over them, which vectorises when there
+are several. Imported only where it is used (numba loads in about a second).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def banded_cholesky_solve(factor, x, columns):
+    """Solve L Lᵀ y = x in place for the first ``columns`` columns of ``x``.
+
+    Forward and backward substitution in dot-product form: each row is finished in one pass over
+    the band rows before (after) it, the columns innermost.
+
+    Parameters
+    ----------
+    factor : ndarray, shape (n, b + 1)
+        The Cholesky factor by rows, ``factor[j, k] = L[j + k, j]``. [sqrt of the matrix's unit]
+    x : ndarray, shape (n, m)
+        Right-hand sides, overwritten by the solution. [unit of the right-hand side]
+    columns : int
+        How many leading columns to solve (the others are left as they are). [-]
+    """
+    n, width = factor.shape
+    bw = width - 1
+    acc = np.empty(columns)
+    for j in range(n):
+        for b in range(columns):
+            acc[b] = x[j, b]
+        for k in range(1, min(bw, j) + 1):
+            value = factor[j - k, k]
+            for b in range(columns):
+                acc[b] -= value * x[j - k, b]
+        d = factor[j, 0]
+        for b in range(columns):
+            x[j, b] = acc[b] / d
+    for j in range(n - 1, -1, -1):
+        for b in range(columns):
+            acc[b] = x[j, b]
+        for k in range(1, min(bw, n - 1 - j) + 1):
+            value = factor[j, k]
+            for b in range(columns):
+                acc[b] -= value * x[j + k, b]
+        d = factor[j, 0]
+        for b in range(columns):
+            x[j, b] = acc[b] / d
