@@ -32,8 +32,9 @@ def test_recomputing_at_the_recommended_geometry_shifts_little(short_recommendat
     rec, again = short_recommendation, short_recommendation.recomputed
     assert all(lay.section.catenary.presag_rel == rec.presag_rel for lay in again.layouts)
     # The paper's point that one set of curves at a near-optimal pre-sag is enough shows as a small
-    # shift of the recommendation (0.5 % on the full case study; 10 % would be a different answer).
-    assert again.presag_rel == pytest.approx(rec.presag_rel, rel=0.10)
+    # shift of the recommendation: measured 0.16 % here (0.5 % on the full case study); 1 % is twice
+    # the larger of the two, a shift beyond it would be a different answer.
+    assert again.presag_rel == pytest.approx(rec.presag_rel, rel=0.01)
     assert again.presag_rel != rec.presag_rel
 
 

@@ -112,26 +112,22 @@ def test_robust_waviness_holds_on_the_re_form_found_geometry(study):
         assert exact == pytest.approx(design.worst_case_waviness, rel=tol)
 
 
-def test_table2_elasticity_against_the_two_string_estimate(ideal71, ideal98, st71, st98):
-    """Table 2's S = F_m·(e_mid − e_mast) at 140 N, tied to two independent computations.
+def test_table2_against_the_linear_elasticity_and_the_paper(ideal71, ideal98, st71, st98):
+    """Table 2's S = F_m·(e_mid − e_mast) at 140 N, tied to an independent computation.
 
-    1. The tangent-stiffness (linear) elasticity: no dropper slackens at mid-span or at the masts at
-       140 N, so the re-solved curve used by Table 2 equals the linear one there (0.1 %, the
-       active-set method's measured distance from Newton at 100 N is 0.06 % in e_mid).
-    2. The two-string closed form e_mid = l / (4 (T_CW + T_MW)) (paper eq. 1): measured ratio 1.0545
-       (9.8/9.8) and 1.0352 (7.1/7.1), pinned to ± 0.015, the 0.5 m discretisation's bound (halving the
-       element moves e_mid by < 1 %, ``test_elasticity``).
+    No dropper slackens at mid-span or at the masts at 140 N, so the re-solved curves Table 2 uses
+    (active-set, interpolated between 100 and 150 N) equal the tangent-stiffness (linear) ones there:
+    a different code path (one banded Cholesky factorisation, no re-solve). Tolerance 0.1 %, the
+    active-set method's measured distance from Newton in e_mid is 0.06–0.09 %. The linear e_mid is
+    itself tied to the two-string closed form in ``test_elasticity``.
     """
-    for section, state, ratio in ((ideal71, st71, 1.0352), (ideal98, st98, 1.0545)):
-        curve = section.curves_at(140.0)[0]
+    for section, state in ((ideal71, st71), (ideal98, st98)):
         linear = linear_elasticity(state)
         row = table2_row(section, 140.0)
         assert row.presag_mid_mast == pytest.approx(140.0 * (linear.e_mid - linear.e_mast), rel=1e-3)
-        cat = state.catenary
-        two_strings = 60.0 / (4.0 * (cat.contact_wire.tension + cat.messenger_wire.tension))
-        assert curve.e_mid / two_strings == pytest.approx(ratio, abs=0.015)
-        # Beside the paper's Table 2 (S mid-mast): 7.1/7.1 86.3 vs 96 mm (−10 %), 9.8/9.8 62.0 vs 58 mm
-        # (+7 %); Table 1's empirical range for 9.8/9.8 (54–75 mm) holds ours.
+        # Beside the paper's Table 2 (S mid-mast): 7.1/7.1 86.3 vs 96 mm (−10.1 %), 9.8/9.8 62.0 vs
+        # 58 mm (+6.9 %), ± 0.5 points for the paper's printed whole millimetres; Table 1's empirical
+        # range (e_mast = 0.5…0.3 e_mid) holds ours.
         paper = PAPER_TABLE2_MM[row.tension_label]["mid-mast"]
         assert row.presag_mid_mast * 1e3 / paper - 1.0 == pytest.approx(
             {"7.1/7.1": -0.101, "9.8/9.8": 0.069}[row.tension_label], abs=0.005
