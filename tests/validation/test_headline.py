@@ -58,7 +58,8 @@ def study():
 
 def test_case_study_recommendation(short_recommendation, mixed_layout):
     # The ideal layout of ``short_recommendation`` is the case study's ideal layout (same model).
-    ideal = short_recommendation.layout("ideal")
+    ideal = short_recommendation.layouts[0]
+    assert ideal.layout_kind == "ideal"
     assert np.array(ideal.presag_rel_range) * 1e3 == pytest.approx(IDEAL_RANGE, rel=PIN)
     assert np.array(mixed_layout.presag_rel_range) * 1e3 == pytest.approx(MIXED_RANGE, rel=PIN)
     ends = [*ideal.presag_rel_range, *mixed_layout.presag_rel_range]
@@ -74,7 +75,7 @@ def test_case_study_recommendation(short_recommendation, mixed_layout):
 
 
 def test_the_ideal_layouts_static_uplift_stays_below_the_limit(short_recommendation):
-    uplift = short_recommendation.layout("ideal").steady_arm_uplift
+    uplift = short_recommendation.layouts[0].steady_arm_uplift
     assert uplift.uplift * 1e3 == pytest.approx(53.85102, rel=PIN)  # limit 83.5 mm
     assert uplift.within_limit and not short_recommendation.warnings
 
