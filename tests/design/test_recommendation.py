@@ -59,3 +59,18 @@ def test_recommend_rejects_bad_input_before_computing(kwargs, message, monkeypat
     monkeypatch.setattr(section, "form_find", fail)
     with pytest.raises(ModelError, match=message):
         recommend(**kwargs)
+
+
+def test_recommendation_warns_when_the_static_uplift_exceeds_the_limit():
+    """F_m up to 260 N on ST 9,8/9,8: F_m·e_mast ≈ 260 N × 0.35 mm/N ≈ 90 mm, above the 83.5 mm limit
+    (three 60 m spans keep the form-finding short)."""
+    from presag_opt.system.catenary import SpanLayout
+    from presag_opt.system.loader import load_catenary
+
+    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
+    band = OperatingBand(static_force_low=200.0, static_force_high=260.0, speed_high=10 * KMH, aero_coefficient=0.0)
+    with pytest.warns(UserWarning, match=r"static steady-arm uplift estimate \d+\.\d mm at F_m = 260 N exceeds the limit 83.5 mm"):
+        rec = recommend(models=[catenary], band=band)
+    uplift = rec.layouts[0].steady_arm_uplift
+    assert not uplift.within_limit and uplift.uplift > uplift.limit
+    assert len(rec.warnings) == 1 and "exceeds the limit" in rec.warnings[0]
