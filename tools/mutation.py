@@ -49,6 +49,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
             "tests/dynamics/test_integrator.py",
             "tests/dynamics/test_wave_speed.py",
             "tests/dynamics/test_moving_load.py",
+            "tests/dynamics/test_structure_parts.py",
         ],
     ),
     "design": (
