@@ -39,7 +39,6 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
             "tests/static/test_analytic.py",
             "tests/static/test_form_finding.py",
             "tests/static/test_elasticity.py",
-            "tests/static/test_linearised.py",
         ],
     ),
     "dynamics": (
