@@ -263,8 +263,10 @@ def test_every_validated_class_accepts_exactly_its_valid_range(fuzz):
     counts: Counter[str] = Counter()
     build = fuzz.build or (lambda kwargs: fuzz.cls(**kwargs))
 
-    @settings(max_examples=EXAMPLES, deadline=None, database=None, suppress_health_check=[HealthCheck.too_slow,
-                                                                                            HealthCheck.filter_too_much])
+    # derandomize: the same examples on every run, so the share assertions below cannot flicker
+    # (a random run once drew too few valid PantographStage examples under load).
+    @settings(max_examples=EXAMPLES, deadline=None, database=None, derandomize=True,
+              suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
     @given(case=_cases(fuzz))
     def check(case):
         kwargs, bad = case
