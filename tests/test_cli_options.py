@@ -38,18 +38,18 @@ def mixed_model(tmp_path_factory) -> Path:
 
 
 def test_recommend_newton_and_recompute_match_the_library(mixed_model, tmp_path):
-    """``--elasticity-method newton --recompute --step 5``: the JSON equals the library's result with the
+    """``--elasticity-method newton --recompute --step 10``: the JSON equals the library's result with the
     same arguments (same code, deterministic: 1e-12), and differs from the active-set result, so the
     option reached the computation (the methods differ by 0.3–1.4 % in Δe at 100–150 N)."""
     from presag_opt.design import recommend
     from presag_opt.system.loader import load_catenary
 
     run = presag("recommend", "--models", str(mixed_model), "--elasticity-method", "newton", "--recompute",
-                 "--step", "5", "--json", cwd=tmp_path)
+                 "--step", "10", "--json", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
-    newton = recommend(models=[load_catenary(mixed_model)], elasticity_method="newton", step=5.0)
-    active = recommend(models=[load_catenary(mixed_model)], step=5.0)
+    newton = recommend(models=[load_catenary(mixed_model)], elasticity_method="newton", step=10.0)
+    active = recommend(models=[load_catenary(mixed_model)], step=10.0)
     assert np.array(out["presag_rel_range_permille"]) == pytest.approx(np.array(newton.presag_rel_range) * 1e3, rel=1e-12)
     assert abs(newton.presag_rel / active.presag_rel - 1.0) > 1e-4
     again = out["recomputed_at_recommended_geometry"]
@@ -66,22 +66,26 @@ def test_recommend_per_span_table(mixed_model, tmp_path):
 
 
 def test_robust_asymmetric_per_dropper(tmp_path):
-    run = presag("robust", "--shape", "per-dropper", "--asymmetric", "--json", cwd=tmp_path)
+    run = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--asymmetric", "--json", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
     depths = np.array(out["dropper_depths_mm"])
     assert len(depths) == 7  # every dropper of the analysed span is a free depth
     np.testing.assert_allclose(depths / 5.0, np.round(depths / 5.0), atol=1e-9)  # 5 mm step, round-off only
-    # The per-dropper profile relaxes the parabola: its continuous optimum is at most the parabola's
-    # worst case (24.391 mm, pinned in tests/validation/test_headline.py; LP tolerance 1e-6).
-    assert out["continuous_objective_mm"] <= 24.3908 * (1 + 1e-6)
+    # The per-dropper profile relaxes the parabola: its continuous optimum is at most the worst case
+    # of the nominal Δe parabola, a feasible profile (LP tolerance 1e-6).
+    assert out["continuous_objective_mm"] <= out["nominal_worst_case_waviness_mm"] * (1 + 1e-6)
     assert out["objective_mm"] >= out["continuous_objective_mm"]  # rounding only loses
 
 
 def test_simulate_with_the_generic_three_mass_pantograph(tmp_path):
     """The ``generic_3mass`` model runs; its mean contact force is the uplift force F_stat + α_ae v²
     within 2 % (as for the other pantographs in tests/dynamics/test_simulate.py)."""
-    run = presag("simulate", "st_9.8_ideal", "--pantograph", "generic_3mass", "--speed", "90",
+    six_spans = tmp_path / "six.toml"  # the fewest spans for 2 analysed after 2 lead-in spans
+    text, count = re.subn(r"span_count = \{ value = 5,", "span_count = { value = 6,", SHORT_MODEL.read_text())
+    assert count == 1
+    six_spans.write_text(text)
+    run = presag("simulate", str(six_spans), "--pantograph", "generic_3mass", "--speed", "90",
                  "--static-force", "100", "--aero", "0.00097", "--json", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
