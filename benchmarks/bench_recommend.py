@@ -3,7 +3,7 @@
 Measures, on this machine, the wall time of ``presag recommend`` with its defaults (the paper's case
 study: ST 9,8/9,8 ideal and mixed spans), cold start: a fresh Python process per run, so imports,
 CasADi model building and both form-findings are included. Prints every run and the median
-(target < 10 s), then one more fresh run broken into stages (import, form-finding and elasticity
+(target < 10 s; a miss ends with a ``NOT MET`` line and exit status 1), then one more fresh run broken into stages (import, form-finding and elasticity
 per layout; the S(F_m) evaluation counts with the elasticity) from the API's progress messages,
 and the load average, since the figures depend on what else the machine is doing.
 """
@@ -13,10 +13,10 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import sys
-import time
+
+from _targets import MIN_REPEAT, Targets, median_time
 
 TARGET_S = 10.0
 
@@ -36,36 +36,31 @@ print(json.dumps(stages))
 """
 
 
-def cold_run() -> float:
-    """Wall time of one ``presag recommend`` in a fresh process. [s]"""
-    start = time.perf_counter()
+def cold_run() -> None:
+    """One ``presag recommend`` in a fresh process; stops the benchmark if it fails."""
     run = subprocess.run([sys.executable, "-m", "presag_opt.cli", "recommend"], capture_output=True, text=True, check=False)
-    elapsed = time.perf_counter() - start
     if run.returncode != 0:
         raise SystemExit(f"presag recommend failed ({run.returncode}): {run.stderr.strip()}")
-    return elapsed
 
 
-def main() -> None:
+def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=int, default=MIN_REPEAT, help="runs per median (at least 3)")
     args = parser.parse_args()
 
     print(f"load average before: {' '.join(f'{v:.2f}' for v in os.getloadavg())} on {os.cpu_count()} CPUs")
-    times = []
-    for i in range(args.repeat):
-        times.append(cold_run())
-        print(f"run {i + 1}: {times[-1]:.2f} s")
-    median = statistics.median(times)
-    print(f"presag recommend, cold start, median of {args.repeat}: {median:.2f} s "
-          f"(target < {TARGET_S:g} s: {'met' if median < TARGET_S else 'NOT met'})")
+    median, _ = median_time(cold_run, args.repeat, show=True)
+    print(f"presag recommend, cold start, median of {args.repeat}:")
+    targets = Targets()
+    targets.below("presag recommend, cold start", median, TARGET_S)
 
     stages = subprocess.run([sys.executable, "-c", STAGES_SCRIPT], capture_output=True, text=True, check=True)
     print("\nstages of one more fresh run:")
     for name, seconds in json.loads(stages.stdout).items():
         print(f"  {name:60s} {seconds:6.2f} s")
     print(f"load average after: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    return targets.exit_status()
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

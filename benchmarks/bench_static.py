@@ -1,21 +1,22 @@
 """Benchmark of the static model (issue: foundation). Run: python benchmarks/bench_static.py [--repeat N]
 
-Measures, on this machine, median wall times of
+Measures, on this machine, median wall times (of N >= 3 runs, default 3) of
 - form-finding, 10-span ideal ST 9,8/9,8 and the 31-span mixed section, cold (model built and
   compiled in the call) and warm (CasADi functions cached);
 - linear elasticity of one span every 0.1 m (one factorisation);
 - the same curve by per-point nonlinear re-solves under 1 N (Newton), same run, and the ratio;
 - nonlinear elasticity at 4 force levels × 121 points (Newton), and the active-set method;
-and prints the validation figures quoted in the closing note.
+and prints the validation figures quoted in the closing note. A missed target ends with a
+``NOT MET`` line and exit status 1.
 """
 
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
+import sys
 
 import numpy as np
+from _targets import Targets, median_time
 
 from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
 from presag_opt.static import equilibrium
@@ -23,32 +24,25 @@ from presag_opt.static.discretisation import CONTACT_WIRE, MESSENGER_WIRE, Stati
 from presag_opt.system.loader import load_catenary
 
 
-def timed(fn, repeat: int) -> tuple[float, object]:
-    times, result = [], None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
-
-
 def cold_form_find(name: str):
     equilibrium._static_model.cache_clear()
     return equilibrium.form_find(load_catenary(name))
 
 
-def main() -> None:
+def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=int, default=3, help="runs per median (at least 3)")
     args = parser.parse_args()
     r = args.repeat
+    targets = Targets()
 
     print("== form-finding (median of", r, "runs)")
     for name, target in (("st_9.8_ideal", 2.0), ("st_9.8_mixed", 10.0)):
-        cold, state = timed(lambda: cold_form_find(name), r)
-        warm, _ = timed(lambda: equilibrium.form_find(load_catenary(name)), r)
-        print(f"{name:14s} cold {cold:6.2f} s  warm {warm:6.2f} s  (target < {target:g} s)  "
+        cold, state = median_time(lambda: cold_form_find(name), r)
+        warm, _ = median_time(lambda: equilibrium.form_find(load_catenary(name)), r)
+        print(f"{name:14s} cold {cold:6.2f} s  warm {warm:6.2f} s  "
               f"nodes {state.discretisation.n_nodes}, free DOFs {len(state.model.functions.free_dofs)}")
+        targets.below(f"form-finding {name}, cold", cold, target)
 
     state = equilibrium.form_find(load_catenary("st_9.8_ideal"))
     print("\n== elasticity, central span of st_9.8_ideal")
@@ -57,18 +51,20 @@ def main() -> None:
         state._cache.clear()
         return linear_elasticity(state, step=0.1)
 
-    t_lin, lin = timed(fresh_linear, r)
-    t_res, res = timed(lambda: nonlinear_elasticity(state, 1.0, step=0.1), 1)
-    print(f"linear, 601 points every 0.1 m: {t_lin:.3f} s (target < 0.5 s)")
-    print(f"per-point re-solves under 1 N, same 601 points: {t_res:.2f} s -> ratio {t_res / t_lin:.0f}x (target >= 100x)")
+    t_lin, lin = median_time(fresh_linear, r)
+    t_res, res = median_time(lambda: nonlinear_elasticity(state, 1.0, step=0.1), r)
+    print(f"linear, 601 points every 0.1 m: {t_lin:.3f} s; per-point re-solves under 1 N, same points: {t_res:.2f} s")
+    targets.below("linear elasticity, 601 points", t_lin, 0.5)
+    targets.at_least("re-solve / linear time ratio", t_res / t_lin, 100.0, "x")
     print(f"largest difference between the two: {np.max(np.abs(lin.elasticity[1:-1] / res.elasticity[1:-1] - 1)) * 100:.3f} %")
 
     def four_levels(method):
         return [nonlinear_elasticity(state, f, step=0.5, method=method) for f in (50.0, 100.0, 150.0, 200.0)]
 
-    t_nl, curves = timed(lambda: four_levels("newton"), 1)
-    t_as, fast = timed(lambda: four_levels("active-set"), r)
-    print(f"nonlinear 4 levels x 121 points, Newton: {t_nl:.1f} s (target < 20 s); active-set: {t_as:.2f} s")
+    t_nl, curves = median_time(lambda: four_levels("newton"), r)
+    t_as, fast = median_time(lambda: four_levels("active-set"), r)
+    print(f"nonlinear 4 levels x 121 points, Newton: {t_nl:.1f} s; active-set: {t_as:.2f} s")
+    targets.below("nonlinear elasticity, 4 levels x 121 points, Newton", t_nl, 20.0)
     for c, f in zip(curves, fast):
         print(f"  F = {c.force:5.0f} N  Newton: e_mid {c.e_mid * 1e3:.3f}, e_mast {c.e_mast * 1e3:.3f}, "
               f"Δe {c.delta_e * 1e3:.3f} mm/N, max slack droppers {c.slack_droppers.max()}; "
@@ -100,7 +96,8 @@ def main() -> None:
         emp = 60.0 / (4 * (c.contact_wire.tension + c.messenger_wire.tension))
         print(f"{name}: e_mid {e.e_mid * 1e3:.3f} mm/N = {e.e_mid / emp:.3f} x empirical {emp * 1e3:.3f}; "
               f"e_mast/e_mid {e.e_mast / e.e_mid:.2f}; e_max {e.e_max * 1e3:.3f}, e_min {e.e_min * 1e3:.3f}")
+    return targets.exit_status()
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -250,13 +250,6 @@ class Recommendation:
         """Whether the whole speed band lies within β ≤ 0.4 for every layout."""
         return all(lay.speed.quasi_static_valid for lay in self.layouts)
 
-    def layout(self, kind: str) -> LayoutRecommendation:
-        """The first layout of a kind (``"ideal"`` or ``"mixed"``)."""
-        for lay in self.layouts:
-            if lay.layout_kind == kind:
-                return lay
-        raise ModelError(f"the recommendation has no {kind} layout")
-
     def to_dict(self) -> dict:
         """JSON-ready content in edge units (mm, ‰, N, km/h)."""
         low, high = self.presag_rel_range

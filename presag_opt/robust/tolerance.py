@@ -42,11 +42,6 @@ class ToleranceBand:
     within: float
     forces: np.ndarray
 
-    @property
-    def width(self) -> float:
-        """high − low. [-]"""
-        return self.high - self.low
-
 
 def tolerance_band(
     path: PathModel, scenarios: ForceScenarios, within: float = 0.10

@@ -254,10 +254,6 @@ class Discretisation:
         t = np.clip((s - self.cw_station[right - 1]) / h, 0.0, 1.0)
         return h * t * (1.0 - t) / self.cw_tension
 
-    def span_of_station(self, station: float) -> int:
-        """Span (from 0) containing an along-track station."""
-        return int(np.clip(np.searchsorted(self.mast_station, station, side="right") - 1, 0, len(self.mast_station) - 2))
-
 
 def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Discretisation:
     """Build the finite-element discretisation of a catenary section in its design state.

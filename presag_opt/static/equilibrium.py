@@ -157,12 +157,6 @@ class EquilibriumState:
         d = self.positions[ax.node_b[disc.arm_elements]] - self.positions[ax.node_a[disc.arm_elements]]
         return np.arctan2(d[:, 2], np.linalg.norm(d[:, :2], axis=1))
 
-    def cw_height(self, stations: np.ndarray | None = None) -> np.ndarray:
-        """Contact-wire height at along-track stations (at its nodes if None). [m]"""
-        disc = self.discretisation
-        z = self.positions[disc.cw_nodes, 2]
-        return z if stations is None else disc.cw_shape(stations) @ z
-
     def dropper_schedule(self) -> list[DropperScheduleRow]:
         """The dropper schedule: span, position, cut length and force of every dropper."""
         disc = self.discretisation

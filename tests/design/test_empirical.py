@@ -48,3 +48,26 @@ def test_empirical_rule_rejects_bad_input(field, value):
     kwargs[field] = value
     with pytest.raises(ModelError, match=rf"^{field} = .* is outside the valid range"):
         EmpiricalPresag(**kwargs)
+
+
+def test_to_dict_reports_every_number_in_its_edge_unit():
+    rule = EmpiricalPresag(span_length=60.0, contact_wire_tension=9.8e3, messenger_wire_tension=7.1e3,
+                           static_force=140.0, e_mast_ratios=[0.5, 0.3])
+    assert rule.e_mast_ratios == (0.5, 0.3) and isinstance(rule.e_mast_ratios, tuple)  # a list is stored as a tuple
+    out = rule.to_dict()
+    # Unit conversions only (× or ÷ 1e3): equal to round-off, 1e-12.
+    assert out["span_length_m"] == 60.0 and out["static_force_N"] == 140.0 and out["k"] == 4.0
+    assert out["tension_kN"] == pytest.approx([9.8, 7.1], rel=1e-12)
+    assert out["e_mast_ratios"] == [0.5, 0.3]
+    assert out["e_mid_mm_per_N"] == pytest.approx(rule.e_mid * 1e3, rel=1e-12)
+    assert out["e_mast_mm_per_N"] == pytest.approx([e * 1e3 for e in rule.e_mast], rel=1e-12)
+    assert out["presag_mm"] == pytest.approx([s * 1e3 for s in rule.presag], rel=1e-12)
+    assert out["presag_rel_permille"] == pytest.approx([s * 1e3 for s in rule.presag_rel], rel=1e-12)
+    assert out["printed_as_table1"] == rule.printed()
+
+
+def test_printed_digits_round_half_up_as_the_paper_does():
+    from presag_opt.design.empirical import _round_half_up
+
+    # Half-up, not Python's round-half-to-even: 0.125 → 0.13 and 2.5 → 3 (round() gives 0.12 and 2).
+    assert _round_half_up(0.125, 2) == 0.13 and _round_half_up(2.5, 0) == 3.0

@@ -64,3 +64,20 @@ def test_quasi_static_variants_on_a_known_curve():
         presag_quasi_static(curve, 120.0, "max-min")
     with pytest.raises(ModelError, match=r"mean force = 0 N"):
         presag_quasi_static(curve, 0.0)
+
+
+def test_interpolated_curve_keeps_the_positions_and_the_default_rule_is_delta_e():
+    a = synthetic_curve(100.0, np.array([0.4, 0.9, 0.8, 0.3, 0.5]) * 1e-3)
+    b = synthetic_curve(150.0, np.array([0.5, 1.0, 0.9, 0.4, 0.6]) * 1e-3)
+    between = interpolate_elasticity([a, b], 125.0)
+    np.testing.assert_array_equal(between.position, a.position)  # same stations, copied exactly
+    # The paper's recommendation uses the Δe variant; it is the default (exact: the same arithmetic).
+    assert presag_quasi_static(a, 120.0) == presag_quasi_static(a, 120.0, "delta-e")
+
+
+def test_interpolation_refuses_repeated_or_missing_levels():
+    a = synthetic_curve(100.0, np.full(5, 1e-3))
+    with pytest.raises(ModelError, match=r"force levels \[100.0, 100.0\] N are not distinct"):
+        interpolate_elasticity([a, synthetic_curve(100.0, np.full(5, 2e-3))], 100.0)
+    with pytest.raises(ModelError, match="needs nonlinear curves"):
+        interpolate_elasticity([], 100.0)

@@ -32,8 +32,9 @@ def test_recomputing_at_the_recommended_geometry_shifts_little(short_recommendat
     rec, again = short_recommendation, short_recommendation.recomputed
     assert all(lay.section.catenary.presag_rel == rec.presag_rel for lay in again.layouts)
     # The paper's point that one set of curves at a near-optimal pre-sag is enough shows as a small
-    # shift of the recommendation (0.5 % on the full case study; 10 % would be a different answer).
-    assert again.presag_rel == pytest.approx(rec.presag_rel, rel=0.10)
+    # shift of the recommendation: measured 0.16 % here (0.5 % on the full case study); 1 % is twice
+    # the larger of the two, a shift beyond it would be a different answer.
+    assert again.presag_rel == pytest.approx(rec.presag_rel, rel=0.01)
     assert again.presag_rel != rec.presag_rel
 
 
@@ -58,3 +59,18 @@ def test_recommend_rejects_bad_input_before_computing(kwargs, message, monkeypat
     monkeypatch.setattr(section, "form_find", fail)
     with pytest.raises(ModelError, match=message):
         recommend(**kwargs)
+
+
+def test_recommendation_warns_when_the_static_uplift_exceeds_the_limit():
+    """F_m up to 260 N on ST 9,8/9,8: F_m·e_mast ≈ 260 N × 0.35 mm/N ≈ 90 mm, above the 83.5 mm limit
+    (three 60 m spans keep the form-finding short)."""
+    from presag_opt.system.catenary import SpanLayout
+    from presag_opt.system.loader import load_catenary
+
+    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
+    band = OperatingBand(static_force_low=200.0, static_force_high=260.0, speed_high=10 * KMH, aero_coefficient=0.0)
+    with pytest.warns(UserWarning, match=r"static steady-arm uplift estimate \d+\.\d mm at F_m = 260 N exceeds the limit 83.5 mm"):
+        rec = recommend(models=[catenary], band=band)
+    uplift = rec.layouts[0].steady_arm_uplift
+    assert not uplift.within_limit and uplift.uplift > uplift.limit
+    assert len(rec.warnings) == 1 and "exceeds the limit" in rec.warnings[0]

@@ -32,31 +32,37 @@ def test_nonlinear_curve_approaches_the_linear_one_as_the_force_falls(st98):
     assert deviation[10.0] < deviation[100.0] < deviation[200.0]
 
 
-def test_active_set_method_tracks_newton_up_to_150N(st98):
-    # The active-set method neglects geometric nonlinearity only; up to 150 N (the case study's
-    # band ends at 148 N) Δe and e_mid stay within 2 % of the full re-solve (measured 1.4 % / 0.1 %).
-    for force in (100.0, 150.0):
-        fast = nonlinear_elasticity(st98, force, step=0.5, method="active-set")
-        full = nonlinear_elasticity(st98, force, step=0.5)
-        assert fast.delta_e == pytest.approx(full.delta_e, rel=0.02)
-        assert fast.e_mid == pytest.approx(full.e_mid, rel=0.02)
-        # slack regions agree but for the point at each end of a region (0.5 m spacing, 4 ends)
-        assert np.count_nonzero((fast.slack_droppers > 0) != (full.slack_droppers > 0)) <= 4
+@pytest.mark.parametrize(("force", "delta_e_tol"), [(100.0, 0.015), (150.0, 0.015), (200.0, 0.06)])
+def test_active_set_method_tracks_newton(st98, force, delta_e_tol):
+    """The active-set method neglects geometric nonlinearity only. The README's claim, asserted as
+    stated: Δe within 1.5 % of the full Newton re-solve up to 150 N (the case study's band ends at
+    148 N), 6 % at 200 N. Measured: Δe +0.29 %, +1.44 %, +5.88 % at 100, 150, 200 N; e_mid −0.06 %,
+    −0.09 %, −0.04 % (asserted within 0.2 %, twice the largest)."""
+    fast = nonlinear_elasticity(st98, force, step=0.5, method="active-set")
+    full = nonlinear_elasticity(st98, force, step=0.5)
+    assert fast.delta_e == pytest.approx(full.delta_e, rel=delta_e_tol)
+    assert fast.e_mid == pytest.approx(full.e_mid, rel=2e-3)
+    # slack regions agree but for the point at each end of a region (0.5 m spacing, 4 ends); measured ≤ 3
+    assert np.count_nonzero((fast.slack_droppers > 0) != (full.slack_droppers > 0)) <= 4
 
 
-def test_empirical_mid_span_elasticity_brackets_both_systems(st98, st71):
-    # e_mid = l / (4 (T_CW + T_MW)) (paper eq. 1, k = 4); the issue asks for 0.9…1.4 times it.
-    for state in (st98, st71):
-        cat = state.catenary
-        empirical = 60.0 / (4.0 * (cat.contact_wire.tension + cat.messenger_wire.tension))
-        ratio = linear_elasticity(state).e_mid / empirical
-        assert 0.9 <= ratio <= 1.4, ratio
+@pytest.mark.parametrize(("fixture", "ratio"), [("st98", 1.0545), ("st71", 1.0352)])
+def test_mid_span_elasticity_against_the_two_string_estimate(fixture, ratio, request):
+    """e_mid against the two-string closed form l / (4 (T_CW + T_MW)) (paper eq. 1, k = 4).
+
+    Measured ratio 1.0545 (ST 9,8/9,8) and 1.0352 (ST 7,1/7,1): the model is a few per cent softer
+    than two parallel strings. Tolerance ± 0.015, the discretisation's bound (halving the 0.5 m
+    element moves e_mid by less than 1 %, ``test_halving_the_element_length…``)."""
+    state = request.getfixturevalue(fixture)
+    cat = state.catenary
+    empirical = 60.0 / (4.0 * (cat.contact_wire.tension + cat.messenger_wire.tension))
+    assert linear_elasticity(state).e_mid / empirical == pytest.approx(ratio, abs=0.015)
 
 
 def test_mast_elasticity_is_a_fraction_of_mid_span(st98):
-    # The paper's empirical range is e_mast = 0.3…0.5 e_mid (section 4.1).
+    # The paper's empirical range is e_mast = 0.3…0.5 e_mid (section 4.1); measured 0.451.
     curve = linear_elasticity(st98)
-    assert 0.3 <= curve.e_mast / curve.e_mid <= 0.55
+    assert 0.3 <= curve.e_mast / curve.e_mid <= 0.5
 
 
 def test_large_uplift_slackens_droppers_near_the_mast(st98):

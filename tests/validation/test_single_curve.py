@@ -23,3 +23,28 @@ def test_single_curve_error_study(ideal98, ideal98_70mm):
         assert study.error_at(179.0) == pytest.approx(FIG5B_REGRESSION[round(study.geometry_presag, 3)], abs=2e-3)
     # The paper's finding: the single curve is much better on the near-optimal (70 mm) geometry.
     assert large.error_at(179.0) < 0.5 * nominal.error_at(179.0)
+
+
+@pytest.mark.slow
+def test_single_curve_error_against_direct_newton_curves(ideal98, ideal98_70mm):
+    """Fig. 5b recomputed without the study's two approximations: Δe from full Newton re-solves
+    at 100 N and directly at 179 N (no active-set method, no interpolation between 150 and 200 N).
+
+    Measured: Newton gives 23.0 % (30 mm) and 13.6 % (70 mm) against the study's 20.5 % and 8.5 %;
+    the paper reads 16 % and 2 %. The gap is the active-set method's Δe error near 179 N (it grows to
+    5.9 % at 200 N, tests/static/test_elasticity.py) times the 1/(1 − error) leverage of a ratio, so
+    the tolerance is 0.06 (absolute), just above the larger measured gap; the paper's finding (the
+    70 mm geometry is the better one for a single curve) holds in both.
+    """
+    from presag_opt.elasticity import nonlinear_elasticity
+    from presag_opt.static.equilibrium import form_find
+
+    direct = {}
+    for section in (ideal98, ideal98_70mm):
+        state = form_find(section.catenary)
+        at_100, at_179 = (nonlinear_elasticity(state, f, step=0.5) for f in (100.0, 179.0))
+        error = at_100.delta_e / at_179.delta_e - 1.0
+        study = single_curve_error(section)
+        assert error == pytest.approx(study.error_at(179.0), abs=0.06)
+        direct[round(study.geometry_presag, 3)] = error
+    assert direct[0.070] < direct[0.030]
