@@ -97,9 +97,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
-    for flag, values in (("--speed", args.speed), ("--static-force", args.static_force)):
-        if values is not None and not values:
-            raise ModelError(f"{flag}: give at least one value (comma-separated)")
     case = _case(args)
     if args.plot:
         args.plot = str(output_path(args.plot))
