@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presag_opt.static.kernels import banded_cholesky_solve
+from presag_opt.static.kernels import backward_substitution
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
@@ -231,16 +231,7 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
             for b in range(active):
                 delta[j, b] = acc[b] / d
         # Sweep 2: backward substitution.
-        for j in range(n - 1, -1, -1):
-            for b in range(active):
-                acc[b] = delta[j, b]
-            for k in range(1, min(bw, n - 1 - j) + 1):
-                value = factor_band[j, k]
-                for b in range(active):
-                    acc[b] -= value * delta[j + k, b]
-            d = factor_band[j, 0]
-            for b in range(active):
-                delta[j, b] = acc[b] / d
+        backward_substitution(factor_band, delta, active)
         for b in range(active):
             phi_count[b] = 0
             if status[b] == STATUS_RUNNING and n_steps[b] >= step:

@@ -42,6 +42,16 @@ def banded_cholesky_solve(factor, x, columns):
         d = factor[j, 0]
         for b in range(columns):
             x[j, b] = acc[b] / d
+    backward_substitution(factor, x, columns)
+
+
+@njit(cache=True)
+def backward_substitution(factor, x, columns):
+    """Solve Lᵀ y = x in place for the first ``columns`` columns (the second half of
+    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep)."""
+    n, width = factor.shape
+    bw = width - 1
+    acc = np.empty(columns)
     for j in range(n - 1, -1, -1):
         for b in range(columns):
             acc[b] = x[j, b]
