@@ -39,7 +39,7 @@ ROBUST = {
     "nominal_presag": 61.37835,
     "nominal_worst": 29.77823,
     "tolerance": (50.93509, 58.33091),
-    "nominal_tolerance": (50.32047, 57.99680),
+    "centre_tolerance": (50.32047, 57.99680),
 }
 
 
@@ -87,7 +87,7 @@ def test_robust_study_headline(study):
         "nominal_presag": study.nominal.presag_rel * study.reference_span * 1e3,
         "nominal_worst": study.nominal.worst_case_waviness * 1e3,
         "tolerance": np.array([study.tolerance.low, study.tolerance.high]) * study.reference_span * 1e3,
-        "nominal_tolerance": np.array([study.nominal_tolerance.low, study.nominal_tolerance.high])
+        "centre_tolerance": np.array([study.centre_tolerance.low, study.centre_tolerance.high])
         * study.reference_span
         * 1e3,
     }
