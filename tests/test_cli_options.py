@@ -78,6 +78,7 @@ def test_robust_asymmetric_per_dropper(tmp_path):
     assert out["objective_mm"] >= out["continuous_objective_mm"]  # rounding only loses
 
 
+@pytest.mark.slow  # keeps the default run under 5 minutes; the batch tests cover the same path
 def test_simulate_with_the_generic_three_mass_pantograph(tmp_path):
     """The ``generic_3mass`` model runs; its mean contact force is the uplift force F_stat + α_ae v²
     within 2 % (as for the other pantographs in tests/dynamics/test_simulate.py)."""

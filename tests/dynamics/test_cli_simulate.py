@@ -39,6 +39,7 @@ def _run(capsys, *args: str) -> tuple[int, str, str]:
     return code, captured.out, captured.err
 
 
+@pytest.mark.slow  # keeps the default run under 5 minutes; the batch tests cover the same path
 def test_json_and_plot_match_the_api_in_user_units(capsys, tmp_path, st98):
     """The command line converts km/h and N/(km/h)² to SI and calls simulate(): its JSON equals the
     API's statistics for the same inputs (form-finding and integration are deterministic; 1e-9)."""

@@ -122,6 +122,7 @@ def test_speed_ratio_above_0_7_warns_and_the_run_completes(three_spans):
     assert result.doppler_factor == pytest.approx((1 - result.speed_ratio) / (1 + result.speed_ratio), rel=1e-12)
 
 
+@pytest.mark.slow  # keeps the default run under 5 minutes; the shipped EN 50318 case is judged by test_cli_validation
 def test_en50318_case_at_default_discretisation(en50318_runs):
     """The EN 50318-style reference case at 250 and 300 km/h, 0.5 m elements and 2 ms steps.
 
