@@ -271,7 +271,7 @@ def simulate_many(
             records = integrate_batch(state, system, [plans[i] for i in members], group_settings)
             share = (wallclock.perf_counter() - batch_started) / len(members)
             for b, i in enumerate(members):
-                outcomes[i] = _outcome(state, plans[i], b, records, keep_histories, share)
+                outcomes[i] = _outcome(state, points[i], plans[i], b, records, keep_histories, share)
             if progress is not None:
                 progress(len(members))
     return BatchResult(
@@ -302,15 +302,12 @@ def _plan(
 
 
 def _outcome(
-    state: EquilibriumState, plan: RunPlan, b: int, records: BatchRecords, keep_histories: bool, wall_time: float
+    state: EquilibriumState, point: OperatingPoint, plan: RunPlan, b: int, records: BatchRecords,
+    keep_histories: bool, wall_time: float,
 ) -> RunOutcome:
     """Run ``b`` of a batch's records as an outcome: its statistics, or why it stopped."""
     settings = plan.settings
     dt = settings.integrator.time_step
-    point = OperatingPoint(
-        speed=plan.operation.speed, static_force=plan.operation.static_force,
-        aero_coefficient=plan.operation.aero_coefficient,
-    )
     common = dict(point=point, speed_ratio=plan.speed_ratio, doppler_factor=plan.doppler_factor,
                   wave_speed=plan.wave_speed, analysed_spans=plan.analysed_spans,
                   analysed_section=plan.analysed_section, newton_iterations=int(records.iterations[b]),
