@@ -35,7 +35,7 @@ from presag_opt.static.symbolic import (
     solve_form_finding,
     target_height_sensitivity,
 )
-from presag_opt.system.catenary import Catenary, Wire
+from presag_opt.system.catenary import Catenary, Damping, Wire
 
 
 @dataclass(frozen=True)
@@ -295,8 +295,18 @@ def newton_equilibrium(
     )
 
 
-def lone_wire_state(wire: Wire, length: float, settings: StaticSettings | None = None) -> EquilibriumState:
-    """Equilibrium of a lone wire pinned at both ends (see :func:`discretise_lone_wire`), under gravity.
+def lone_wire_state(
+    wire: Wire,
+    length: float,
+    settings: StaticSettings | None = None,
+    *,
+    support_stiffness: float | None = None,
+    damping: Damping | None = None,
+) -> EquilibriumState:
+    """Equilibrium of a lone wire supported at both ends (see :func:`discretise_lone_wire`), under gravity.
+
+    The simulator runs on such a state when its supports are springs (``support_stiffness``); with
+    pinned ends it serves the static analytic checks.
 
     Parameters
     ----------
@@ -306,17 +316,21 @@ def lone_wire_state(wire: Wire, length: float, settings: StaticSettings | None =
         Distance between the supports. [m]
     settings : StaticSettings, optional
         Numerical settings.
+    support_stiffness : float, optional
+        Vertical stiffness of each end support; None pins the ends. [N/m]
+    damping : Damping, optional
+        Structural damping for dynamic analysis (None: the dynamic model's default).
     """
     settings = settings or StaticSettings()
-    disc = discretise_lone_wire(wire, length, settings)
+    disc = discretise_lone_wire(wire, length, settings, support_stiffness=support_stiffness, damping=damping)
     model = StaticModel(disc, build_potential(disc))
     params = PhysicalParameters(
         axial_stiffness=disc.axial.stiffness,
         unstretched_length=disc.axial.design_length / (1.0 + wire.tension / wire.axial_stiffness),
         slack_allowed=np.zeros(len(disc.axial)),
         bending_stiffness=disc.bending.bending_stiffness,
-        spring_stiffness=np.zeros(0),
-        spring_reference=np.zeros(0),
+        spring_stiffness=disc.spring_stiffness,
+        spring_reference=disc.design_positions.ravel()[disc.spring_dofs],
         nodal_force=disc.gravity_force() + disc.termination_force,
     )
     x, iterations = newton_equilibrium(model, params, disc.design_positions.ravel(), settings)
