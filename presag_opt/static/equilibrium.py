@@ -213,10 +213,18 @@ class EquilibriumState:
             If Newton's method does not reach the force tolerance.
         """
         params = _replace_force(self.params, self.params.nodal_force - self.applied_load + load)
-        x, iterations = newton_equilibrium(
-            self.model, params, (start or self).positions.ravel(), self.discretisation.settings
-        )
-        return EquilibriumState(self.model, x.reshape(-1, 3), params, np.asarray(load, dtype=float), iterations)
+        start = start or self
+        terms = start._cache.get("terms")
+        if terms is not None:
+            # The tangent at the start does not depend on the load; its out-of-balance force moves
+            # by the change of the external force.
+            free = self.model.functions.free_dofs
+            terms = (terms[0], terms[1] + (start.params.nodal_force - params.nodal_force)[free])
+        x, iterations, final = _newton(self.model, params, start.positions.ravel(), self.discretisation.settings, terms)
+        state = EquilibriumState(self.model, x.reshape(-1, 3), params, np.asarray(load, dtype=float), iterations)
+        state._cache["terms"] = final
+        state._cache["stiffness"] = final[0]
+        return state
 
 
 def _replace_force(params: PhysicalParameters, force: np.ndarray) -> PhysicalParameters:
@@ -259,15 +267,28 @@ def newton_equilibrium(
     ConvergenceError
         If the largest out-of-balance force stays above ``settings.force_tolerance``.
     """
+    x, iterations, _ = _newton(model, params, x0, settings)
+    return x, iterations
+
+
+def _newton(
+    model: StaticModel,
+    params: PhysicalParameters,
+    x0: np.ndarray,
+    settings: StaticSettings,
+    terms: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, int, tuple[np.ndarray, np.ndarray]]:
+    """:func:`newton_equilibrium`, optionally given the tangent-stiffness values and the free-DOF
+    gradient at ``x0`` under ``params`` (``terms``), and returning them at the solution as well."""
     funcs = model.functions
     free = funcs.free_dofs
     x = x0.copy()
     tolerance = force_tolerance(params, x, settings)
-    hess, grad = funcs.hessian_values(x, params)
+    hess, grad = terms if terms is not None else funcs.hessian_values(x, params)
     residual = np.abs(grad).max(initial=0.0)
     for iteration in range(settings.max_newton_iterations):
         if residual <= tolerance:
-            return x, iteration
+            return x, iteration, (hess, grad)
         try:
             step = -funcs.solver.factorise(hess).solve(grad)
         except RuntimeError as exc:
@@ -287,7 +308,7 @@ def newton_equilibrium(
             alpha *= 0.5
         x, hess, grad, residual = trial, new_hess, new_grad, new_residual
     if residual <= tolerance:
-        return x, settings.max_newton_iterations
+        return x, settings.max_newton_iterations, (hess, grad)
     raise ConvergenceError(
         f"equilibrium did not converge: largest out-of-balance force {residual:.3g} N after "
         f"{settings.max_newton_iterations} Newton iterations (tolerance {tolerance:.3g} N)",
