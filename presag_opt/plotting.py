@@ -68,7 +68,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     fig, ax = new_figure(legend=True)
     for i, lay in enumerate(recommendation.layouts):
         color = f"C{i}"
-        label = f"{lay.layout_kind}: {lay.catenary_name}"
+        label = lay.layout_kind
         ax.plot(lay.mean_forces, lay.presag_rel_mid_mast * 1e3, "-", color=color, label=f"{label}, e_mid − e_mast")
         ax.plot(lay.mean_forces, lay.presag_rel_delta_e * 1e3, "--", color=color, label=f"{label}, Δe")
     low, high = recommendation.mean_force_band
@@ -79,7 +79,8 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     span = recommendation.nominal_span_length
     right = ax.secondary_yaxis("right", functions=(lambda r: r * span, lambda s: s / span))
     right.set_ylabel(f"pre-sag S on a {span:g} m span [mm]")
-    ax.set_title(f"Quasi-static pre-sag (range and recommendation from the {recommendation.method} variant)")
+    systems = ", ".join(dict.fromkeys(lay.catenary_name for lay in recommendation.layouts))
+    ax.set_title(f"Quasi-static pre-sag: {systems}\n(range and recommendation from the {recommendation.method} variant)")
     legend_outside(fig, ax)
     return save_figure(fig, path)
 

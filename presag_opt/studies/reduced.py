@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 
 import xarray as xr
 
+from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
 from presag_opt.studies.store import assemble
@@ -35,6 +36,8 @@ def reduced_study(
     speeds: Sequence[float],
     static_forces: Sequence[float],
     catenary: Catenary | None = None,
+    pantograph: Pantograph | None = None,
+    aero_coefficient: float | None = None,
     span_count: int = REDUCED_SPANS,
     element_length: float = 1.0,
     time_step: float = 4e-3,
@@ -53,6 +56,10 @@ def reduced_study(
         Static uplift forces, increasing. [N]
     catenary : Catenary, optional
         Another catenary to study (default: the base study's).
+    pantograph : Pantograph, optional
+        Another pantograph (default: the base study's).
+    aero_coefficient : float, optional
+        α_ae of F_m = F_stat + α_ae v² (default: the base study's). [N/(m/s)²]
     span_count : int
         Central spans kept, at least 4 (a lead-in span, the analysed span and the run-out). [-]
     element_length : float
@@ -79,9 +86,10 @@ def reduced_study(
     settings = dataclasses.replace(base.settings.with_fixed_numerics(element_length=element_length, time_step=time_step),
                                    analysed_spans=1, lead_in_spans=1)
     grid = StudyGrid(presags=tuple(presags), speeds=tuple(speeds), static_forces=tuple(static_forces),
-                     aero_coefficient=base.grid.aero_coefficient)
+                     aero_coefficient=base.grid.aero_coefficient if aero_coefficient is None else aero_coefficient)
     return dataclasses.replace(
-        base, name=f"reduced: {catenary.name}", catenary=catenary.with_layout(layout), grid=grid, settings=settings,
+        base, name=f"reduced: {catenary.name}", catenary=catenary.with_layout(layout),
+        pantograph=pantograph or base.pantograph, grid=grid, settings=settings,
         description=f"{len(presags)} pre-sags x {len(speeds)} speeds x {len(static_forces)} static forces on "
                     f"{len(kept)} spans, {element_length:g} m elements, {time_step * 1e3:g} ms",
     )
