@@ -1,0 +1,64 @@
+"""``presag report``: the content of the case-study report, and bad input refused before any work."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+import pytest
+
+from presag_opt.system.loader import model_entries
+
+
+def test_report_is_self_contained_and_has_every_section(case_study_report):
+    folder, summary = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert [p.name for p in folder.iterdir()] == ["index.html"]
+    for section in ("summary", "recommendation", "robust", "elasticity", "validity", "uplift", "inputs", "assumed"):
+        assert f"id='{section}'" in page, section
+    # no scripts, no files or addresses to fetch: every image is embedded
+    assert "<script" not in page
+    sources = re.findall(r'src="([^"]*)"', page)
+    assert len(sources) == 6 and all(s.startswith("data:image/png;base64,") for s in sources)
+    assert "Draft (<code>--quick</code>)" in page
+
+
+def test_report_states_the_numbers_of_its_summary(case_study_report):
+    folder, summary = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert f"S_rel = {summary['presag_rel_permille']:.2f} ‰" in page
+    low, high = summary["tolerance_mm"]
+    assert f"{low:.0f}–{high:.0f} mm on {summary['reference_span_m']:g} m" in page
+    # the recommendation lies inside its own tolerance band on the case study (55 mm in 51-58 mm, quick numerics)
+    assert low <= summary["presag_mm"] <= high
+    assert summary["quick"] is True and summary["validity_source"].startswith("reduced sweep")
+
+
+def test_report_lists_every_input_with_provenance_and_every_assumed_value(case_study_report):
+    folder, _ = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    inputs, assumed = page.split("id='inputs'")[1].split("id='assumed'")
+    entries = [*model_entries("st_9.8_ideal"), *model_entries("st_9.8_mixed"),
+               *model_entries("case_study_2mass_friction", "pantographs")]
+    for entry in entries:
+        assert f"<td>{entry.file}</td><td>{entry.key}</td>" in inputs, entry.key
+    for entry in (e for e in entries if e.source == "assumed"):
+        assert f"<td>{entry.file}</td><td>{entry.key}</td>" in assumed, entry.key
+    assert all(f"<td>{e.file}</td><td>{e.key}</td>" not in assumed for e in entries if e.source != "assumed")
+    assert "tolerance band loss" in assumed and "reduced validity sweep" in assumed
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (["--out", "file.txt"], "--out file.txt: is a file"),
+    (["--out", "missing/report"], "the folder missing does not exist"),
+    (["--out", "r", "--study", "nothere.nc"], "nothere.nc: no such study store"),
+    (["no_such_model", "--out", "r"], "neither a file nor a built-in catenary model"),
+])
+def test_bad_input_is_one_line_before_any_work(tmp_path, args, words):
+    (tmp_path / "file.txt").write_text("x")
+    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", *args], capture_output=True,
+                            text=True, cwd=tmp_path, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.strip().splitlines() == [f"presag: error: {result.stderr.strip()[len('presag: error: '):]}"]
+    assert words in result.stderr
