@@ -357,7 +357,7 @@ def plot_curve_effects(effects: Sequence[CurveEffect], path: str | Path) -> Path
     fig, axes = new_figure(1, 3, width=9.0, height=3.2, legend=True)
     x = [abs(e.radius) for e in curved]
     for ax, values, label in (
-        (axes[0], [e.steady_arm_pull / 1e3 for e in curved], "median steady-arm pull [kN]"),
+        (axes[0], [e.steady_arm_pull / 1e3 for e in curved], "mean steady-arm pull [kN]"),
         (axes[1], [e.e_mast * 1e3 for e in curved], "e at the supports [mm/N]"),
         (axes[2], [e.presag_rel * 1e3 for e in curved], "quasi-static S_rel [‰]"),
     ):
@@ -368,8 +368,9 @@ def plot_curve_effects(effects: Sequence[CurveEffect], path: str | Path) -> Path
         for ax, value in zip(axes, (e.steady_arm_pull / 1e3, e.e_mast * 1e3, e.presag_rel * 1e3)):
             ax.axhline(value, color="C1", ls="--", label="straight track")
     for e in curved:
+        axes[0].plot([abs(e.radius)] * 2, np.array(e.steady_arm_pull_range) / 1e3, color="0.6", lw=3, alpha=0.5)
         axes[2].plot([abs(e.radius)] * 2, np.array(e.presag_rel_range) * 1e3, color="0.6", lw=3, alpha=0.5)
-    axes[2].plot([], [], color="0.6", lw=3, alpha=0.5, label="S_rel range over the F_m band")
+    axes[2].plot([], [], color="0.6", lw=3, alpha=0.5, label="range: arms (left), F_m band (right)")
     legend_outside(fig, axes[2])
     return save_figure(fig, path)
 

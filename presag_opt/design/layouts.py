@@ -105,7 +105,10 @@ class CurveEffect:
     radius : float
         Curve radius of every span; 0 for straight track. [m]
     steady_arm_pull : float
-        Median tensile force of the steady arms. [N]
+        Mean tensile force of the steady arms between the end spans (the masts of the sized spans). [N]
+    steady_arm_pull_range : tuple of float
+        Smallest and largest of those forces: with the alternating stagger of straight track kept on a
+        curve, the stagger and curve kinks add at one mast and partly cancel at the next. [N]
     e_mast, e_mid : float
         Mean over the analysed spans of the elasticity at the supports and at mid-span, at the
         centre of the F_m band. [m/N]
@@ -115,6 +118,7 @@ class CurveEffect:
 
     radius: float
     steady_arm_pull: float
+    steady_arm_pull_range: tuple[float, float]
     e_mast: float
     e_mid: float
     presag_rel_range: tuple[float, float]
@@ -163,9 +167,11 @@ def curve_effects(
         section = section_elasticity(state, force_levels=levels, step=step)
         curves = section.curves_at(0.5 * (low + high))
         result = layout_recommendation(section, band)
+        pulls = state.steady_arm_forces()[1:-1]
         out.append(CurveEffect(
             radius=float(radius),
-            steady_arm_pull=float(np.median(state.steady_arm_forces())),
+            steady_arm_pull=float(np.mean(pulls)),
+            steady_arm_pull_range=(float(pulls.min()), float(pulls.max())),
             e_mast=float(np.mean([0.5 * (c.elasticity[0] + c.elasticity[-1]) for c in curves])),
             e_mid=float(np.mean([c.e_mid for c in curves])),
             presag_rel_range=result.presag_rel_range,
