@@ -77,7 +77,6 @@ def report_command(args: argparse.Namespace) -> int:
     low, high = summary["tolerance_mm"]
     print(f"Recommended S_rel = {summary['presag_rel_permille']:.2f} ‰ = {summary['presag_mm']:.0f} mm on {l_ref:g} m, "
           f"tolerance {low:.0f}–{high:.0f} mm")
-    limit = summary["limit_speed_kmh"]
-    print("Quasi-static rule valid up to " + ("(not found on this grid)" if limit is None else f"about {limit:.0f} km/h"))
+    print(f"Validity ({'stored study' if args.study else 'reduced sweep'}): {validity.text()}")
     print(f"Report written to {path}")
     return 0

@@ -35,7 +35,7 @@ CASE_STUDY_PANTOGRAPH = "case_study_2mass_friction"
 BASE_STUDY = "paper_grid_st98"
 """Study whose numerics, analysis window and uplift limit a reduced sweep starts from."""
 
-SWEEP_BETAS = (0.2, 0.3, 0.4, 0.5)
+SWEEP_BETAS = (0.2, 0.3, 0.4, 0.5, 0.6)
 """Speed ratios of a report's reduced sweep, besides the top speed of the band. [-]"""
 
 SWEEP_PRESAG_FACTORS = (0.5, 1.0, 1.5)
@@ -97,6 +97,19 @@ class ValidityRange:
     def paper_limit_speed(self) -> float:
         """The paper's β = 0.4 as a speed on this line. [m/s]"""
         return QUASI_STATIC_BETA_LIMIT * self.wave_speed
+
+    def text(self) -> str:
+        """β* and its speed in words, or why the grid gives no limit."""
+        res = self.result
+        if res.beta_limit is not None:
+            return (f"β* = {res.beta_limit:.2f} ± {res.beta_limit_uncertainty:.2f}: the Δe rule holds up to about "
+                    f"{self.limit_speed / KMH:.0f} km/h")
+        holding = [v for v in res.per_beta if v.holds]
+        if not holding:
+            return "the Δe rule holds at no speed of this grid: no limit can be read"
+        top = holding[-1]
+        return (f"the Δe rule holds up to the highest speed of this grid, {top.speed / KMH:.0f} km/h "
+                f"(β = {top.beta:.2f}): the limit lies above it")
 
     def uplift_up_to(self, speed: float) -> float:
         """Largest steady-arm uplift of the runs at or below a speed (NaN if none). [m]"""

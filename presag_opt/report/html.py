@@ -99,8 +99,7 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     recommended_mm = rec.presag_rel * l_ref * 1e3
     inside = tol.low <= rec.presag_rel <= tol.high
     res = validity.result
-    limit_text = ("not found on this grid" if res.beta_limit is None else
-                  f"β* = {res.beta_limit:.2f} ± {res.beta_limit_uncertainty:.2f}, up to about {_kmh(validity.limit_speed)}")
+    limit_text = validity.text()
     top = band.speed_high
     uplift_band = validity.uplift_up_to(top)
     limit = float(validity.dataset.attrs["uplift_limit"])

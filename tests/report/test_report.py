@@ -5,9 +5,13 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
+from presag_opt.cli.common import output_folder
+from presag_opt.errors import ModelError
+from presag_opt.report.content import design_report
 from presag_opt.system.loader import model_entries
 
 
@@ -49,16 +53,24 @@ def test_report_lists_every_input_with_provenance_and_every_assumed_value(case_s
     assert "tolerance band loss" in assumed and "reduced validity sweep" in assumed
 
 
-@pytest.mark.parametrize(("args", "words"), [
-    (["--out", "file.txt"], "--out file.txt: is a file"),
-    (["--out", "missing/report"], "the folder missing does not exist"),
-    (["--out", "r", "--study", "nothere.nc"], "nothere.nc: no such study store"),
-    (["no_such_model", "--out", "r"], "neither a file nor a built-in catenary model"),
-])
-def test_bad_input_is_one_line_before_any_work(tmp_path, args, words):
+@pytest.mark.parametrize(("name", "words"), [("file.txt", "--out file.txt: is a file"),
+                                             ("missing/report", "the folder missing does not exist")])
+def test_output_folder_is_checked_before_any_work(tmp_path, monkeypatch, name, words):
+    monkeypatch.chdir(tmp_path)
     (tmp_path / "file.txt").write_text("x")
-    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", *args], capture_output=True,
-                            text=True, cwd=tmp_path, timeout=120)
+    with pytest.raises(ModelError, match=words):
+        output_folder(name)
+    assert output_folder("new") == Path("new") and (tmp_path / "new").is_dir()
+
+
+def test_a_missing_study_store_is_refused_before_any_work(tmp_path):
+    with pytest.raises(ModelError, match="no such study store"):
+        design_report(study=tmp_path / "nothere.nc")
+
+
+def test_bad_input_on_the_command_line_is_one_line(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", "no_such_model", "--out", "r"],
+                            capture_output=True, text=True, cwd=tmp_path, timeout=120)
     assert result.returncode == 2 and "Traceback" not in result.stderr
-    assert result.stderr.strip().splitlines() == [f"presag: error: {result.stderr.strip()[len('presag: error: '):]}"]
-    assert words in result.stderr
+    (line,) = result.stderr.strip().splitlines()
+    assert line.startswith("presag: error: ") and "neither a file nor a built-in catenary model" in line
