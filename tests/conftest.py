@@ -74,3 +74,14 @@ def _cache_in_a_session_folder(tmp_path_factory):
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
         yield
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _static_models_built_in_this_session():
+    """Start the session with no static model kept in memory (``static_model``'s cache). A mutation
+    tester that forks each mutant's session from a process that already ran the tests would otherwise
+    reuse discretisations built by the unmutated code, and a mutant in them would seem to survive."""
+    from presag_opt.static.equilibrium import _static_model
+
+    _static_model.cache_clear()
+    yield

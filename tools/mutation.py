@@ -85,7 +85,8 @@ def _setup_cfg(dest: Path, modules: list[str], tests: list[str]) -> str:
         "[mutmut]\nsource_paths=presag_opt\nalso_copy=\n    models\n"
         f"only_mutate=\n{only}\n"
         f"pytest_add_cli_args_test_selection=\n{selection}\n"
-        "pytest_add_cli_args=\n    -x\n    -q\n    -p\n    no:cacheprovider\n"
+        # -n 0: one process (the project's addopts run the suite on every core with pytest-xdist).
+        "pytest_add_cli_args=\n    -x\n    -q\n    -p\n    no:cacheprovider\n    -n\n    0\n"
     )
 
 

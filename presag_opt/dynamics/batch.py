@@ -27,7 +27,7 @@ import numpy as np
 from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run, run_warnings
+from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run, route, run_warnings
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
@@ -275,7 +275,7 @@ def simulate_many(
             if progress is not None:
                 progress(len(members))
     return BatchResult(
-        catenary_name=state.catenary.name,
+        catenary_name=route(state)[0],
         pantograph_names=tuple(p.name for p in plans[0].pantographs),
         runs=tuple(outcomes),
         wall_time=wallclock.perf_counter() - started,
@@ -292,7 +292,7 @@ def _plan(
 ) -> RunPlan:
     try:
         return plan_run(
-            state.catenary, pantograph, speed=point.speed, static_force=point.static_force,
+            state, pantograph, speed=point.speed, static_force=point.static_force,
             aero_coefficient=point.aero_coefficient, spacings=spacings, settings=settings,
         )
     except ModelError as exc:

@@ -574,14 +574,15 @@ class RunPlan:
         return step_count(self.duration, time_step)
 
     def window(self, pantograph: int) -> tuple[float, float]:
-        """Times the given pantograph (from 0, front to rear) is in the analysed section. [s]"""
+        """Times the given pantograph (from 0, front to rear) is in the analysed section, within the
+        simulated time (which can end up to a step early at the end of the line). [s]"""
         start, end = self.analysed_section
         speed = self.operation.speed
-        return (start - self.starts[pantograph]) / speed, (end - self.starts[pantograph]) / speed
+        return (start - self.starts[pantograph]) / speed, min((end - self.starts[pantograph]) / speed, self.duration)
 
 
 def plan_run(
-    catenary: Catenary,
+    system: Catenary | EquilibriumState,
     pantograph: Pantograph | Sequence[Pantograph],
     *,
     speed: float,
@@ -592,7 +593,8 @@ def plan_run(
 ) -> RunPlan:
     """Check a run's inputs and lay out its route, without form-finding (fast).
 
-    Parameters are those of :func:`simulate`. The leading pantograph starts ``lead_in_spans`` before
+    Parameters are those of :func:`simulate` (``system`` a catenary, or a form-found state, which may
+    be a lone wire). The leading pantograph starts ``lead_in_spans`` before
     the analysed section, the others behind it at their spacings; the run ends ``run_out`` seconds
     after the rear pantograph leaves the section.
 
@@ -606,14 +608,13 @@ def plan_run(
         See :func:`simulate`.
     """
     operation = Operation(speed=speed, static_force=static_force, aero_coefficient=aero_coefficient, spacings=spacings)
-    wave_speed = catenary.contact_wire.wave_speed
+    _, wave_speed, masts = route(system)
     doppler = doppler_factor(operation.speed, wave_speed)  # raises at v >= c, warns above β = 0.7
     settings = (settings or SimulationSettings()).for_speed(operation.speed, wave_speed)
     pantographs = _pantographs(pantograph, len(operation.offsets))
     for p in pantographs:
         p.check_time_step(settings.integrator.time_step)
 
-    masts = np.concatenate([[0.0], np.cumsum(catenary.layout.span_lengths)])
     n_spans = len(masts) - 1
     n_analysed, lead_in = settings.analysed_spans, settings.lead_in_spans
     first = (n_spans - n_analysed) // 2
@@ -646,9 +647,40 @@ def plan_run(
         analysed_spans=tuple(range(first, first + n_analysed)),
         analysed_section=section,
         starts=starts,
-        duration=(rear_end - starts[-1]) / operation.speed,
+        duration=_duration(rear_end - starts[-1], float(masts[-1]) - starts[0], operation.speed, settings),
         settings=settings,
     )
+
+
+def _duration(run_length: float, room: float, speed: float, settings: SimulationSettings) -> float:
+    """Simulated time [s] for the rear pantograph to cover ``run_length`` [m] at ``speed`` [m/s].
+
+    The integrator rounds the time up to whole steps; where that would carry the leading pantograph
+    past the end of the line (``room`` [m] ahead of it, e.g. a lone wire run from support to
+    support with no run-out), the time is cut to the whole steps that fit.
+    """
+    time_step = settings.integrator.time_step
+    duration = run_length / speed
+    steps = step_count(duration, time_step)
+    if speed * steps * time_step > room + 1e-9 and steps > 1:
+        return (steps - 1) * time_step
+    return duration
+
+
+def route(system: Catenary | EquilibriumState) -> tuple[str, float, np.ndarray]:
+    """Name, contact-wire wave speed [m/s] and support stations [m] of the line a run goes along.
+
+    Parameters
+    ----------
+    system : Catenary or EquilibriumState
+        A catenary, or a form-found state (of a catenary or a lone wire, whose two ends are its
+        supports).
+    """
+    if isinstance(system, Catenary):
+        return system.name, system.contact_wire.wave_speed, np.concatenate([[0.0], np.cumsum(system.layout.span_lengths)])
+    disc = system.discretisation
+    name = system.catenary.name if system.catenary is not None else "lone wire"
+    return name, disc.contact_wire.wave_speed, disc.mast_station.copy()
 
 
 def run_warnings(state: EquilibriumState, plan: RunPlan) -> tuple[str, ...]:
@@ -718,9 +750,8 @@ def simulate(
     """
     started = wallclock.perf_counter()
     settings = settings or SimulationSettings()
-    catenary = system.catenary if isinstance(system, EquilibriumState) else system
     plan = plan_run(
-        catenary, pantograph, speed=speed, static_force=static_force, aero_coefficient=aero_coefficient,
+        system, pantograph, speed=speed, static_force=static_force, aero_coefficient=aero_coefficient,
         spacings=spacings, settings=settings,
     )
     settings = plan.settings
@@ -794,7 +825,7 @@ def simulate(
             )
         )
     return SimulationResult(
-        catenary_name=catenary.name,
+        catenary_name=route(system)[0],
         operation=operation,
         wave_speed=plan.wave_speed,
         speed_ratio=plan.speed_ratio,

@@ -347,7 +347,8 @@ def structural_model(
     state : EquilibriumState
         A form-found equilibrium (all droppers in tension).
     damping : Damping, optional
-        Structural damping; default the catenary's own, or the paper's ratio 0.02 if it has none.
+        Structural damping; default the system's own (the catenary's, or a lone wire's), or the
+        paper's ratio 0.02 if it has none.
     settings : StructureSettings, optional
         Frequency band for a damping ratio.
 
@@ -362,7 +363,7 @@ def structural_model(
         vertically (the pantograph could not lift it).
     """
     settings = settings or StructureSettings()
-    damping = damping or state.catenary.damping or DEFAULT_DAMPING
+    damping = damping or state.discretisation.damping or DEFAULT_DAMPING
     disc = state.discretisation
     free = state.model.functions.free_dofs
     position_of = np.full(disc.n_dofs, -1)
@@ -371,7 +372,10 @@ def structural_model(
     cw_z = position_of[3 * disc.cw_nodes + 2]
     if np.any(cw_z < 0):
         node = disc.cw_nodes[np.flatnonzero(cw_z < 0)[0]]
-        raise ModelError(f"contact-wire node {node} is held fixed vertically; the pantograph could not lift it")
+        raise ModelError(
+            f"contact-wire node {node} is held fixed vertically; the pantograph could not lift it (a lone wire "
+            "needs spring supports: lone_wire_state(..., support_stiffness=...))"
+        )
 
     stiffness = sp.csr_matrix(state.tangent_stiffness())
     mass = sp.diags(np.repeat(disc.node_mass, 3)[free], format="csr")

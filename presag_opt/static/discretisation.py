@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import GRAVITY, Catenary, SpringSupport, SteadyArm, Wire
+from presag_opt.system.catenary import GRAVITY, Catenary, Damping, SpringSupport, SteadyArm, Wire
 from presag_opt.system.quantity import quantity, validate_fields
 
 # Axial element groups.
@@ -119,6 +119,11 @@ class Discretisation:
     ----------
     catenary : Catenary or None
         The system discretised (None for a lone wire, see :func:`discretise_lone_wire`).
+    contact_wire : Wire
+        The contact wire (of the catenary, or the lone wire): its tension, mass, EA and EI.
+    damping : Damping or None
+        Structural damping for dynamic analysis (the catenary's, or the lone wire's); None leaves
+        the choice to the dynamic model.
     cw_tension : float
         Contact-wire tension. [N]
     settings : StaticSettings
@@ -161,6 +166,8 @@ class Discretisation:
     """
 
     catenary: Catenary | None
+    contact_wire: Wire
+    damping: Damping | None
     cw_tension: float
     settings: StaticSettings
     design_positions: np.ndarray
@@ -456,6 +463,8 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
         bending = BendingTriples.empty()
     return Discretisation(
         catenary=cat,
+        contact_wire=cat.contact_wire,
+        damping=cat.damping,
         cw_tension=cat.contact_wire.tension,
         settings=settings,
         design_positions=all_pos,
@@ -485,13 +494,26 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     )
 
 
-def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | None = None) -> Discretisation:
-    """A single straight wire pinned at both ends, held by a balance weight at its far end.
+def discretise_lone_wire(
+    wire: Wire,
+    length: float,
+    settings: StaticSettings | None = None,
+    *,
+    support_stiffness: float | None = None,
+    damping: Damping | None = None,
+) -> Discretisation:
+    """A single straight wire supported at both ends, held by a balance weight at its far end.
 
-    For analytic checks (string and tensioned-beam solutions) and wave-propagation tests: the
-    wire lies along x at z = 0, both ends are held laterally and vertically, the near end also
-    along the track, and the far end is pulled along the track by the wire tension. It has two
-    "masts" (its ends) and one span.
+    For analytic checks (string and tensioned-beam solutions), wave-propagation tests and the
+    simulator's moving-load check: the wire lies along x at z = 0, both ends are held laterally,
+    the near end also along the track, and the far end is pulled along the track by the wire
+    tension. It has two "masts" (its ends) and one span.
+
+    Vertically the ends are pinned (held fixed), or, with ``support_stiffness``, held by vertical
+    ground springs. The simulator needs the springs: the pantograph passes over the supports, and
+    its contact model lifts the wire's nodes, so none may be fixed. A rigid support is then
+    approximated by a stiff spring: the support yields F/k under a force F (1e-7 m at 100 N and
+    1e9 N/m, against a mid-span string deflection F l/(4T) of order 0.1 m).
 
     Parameters
     ----------
@@ -501,10 +523,18 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
         Distance between the supports. [m]
     settings : StaticSettings, optional
         Element length.
+    support_stiffness : float, optional
+        Vertical stiffness of each end support; None pins the ends. [N/m]
+    damping : Damping, optional
+        Structural damping for dynamic analysis (None: the dynamic model's default).
     """
     settings = settings or StaticSettings()
     if not 0.1 <= length <= 10000.0:
         raise ModelError(f"length = {length:g} m is outside the valid range [0.1, 10000] m")
+    if support_stiffness is not None and not 1e3 <= support_stiffness <= 1e13:
+        raise ModelError(
+            f"support_stiffness = {support_stiffness:g} N/m is outside the valid range [1e3, 1e13] N/m"
+        )
     n = max(2, math.ceil(length / settings.element_length - 1e-9))
     station = np.linspace(0.0, length, n + 1)
     positions = np.column_stack([station, np.zeros(n + 1), np.zeros(n + 1)])
@@ -516,12 +546,18 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
     fixed = np.zeros((n + 1, 3), dtype=bool)
     fixed[[0, n], 1:] = True
     fixed[0, 0] = True
+    springs = np.zeros(0, dtype=int)
+    if support_stiffness is not None:
+        fixed[[0, n], 2] = False
+        springs = np.array([2, 3 * n + 2])
     termination = np.zeros(3 * (n + 1))
     termination[3 * n] = wire.tension
     nodes = np.arange(n + 1)
     empty = np.zeros(0, dtype=int)
     return Discretisation(
         catenary=None,
+        contact_wire=wire,
+        damping=damping,
         cw_tension=wire.tension,
         settings=settings,
         design_positions=positions,
@@ -547,9 +583,9 @@ def discretise_lone_wire(wire: Wire, length: float, settings: StaticSettings | N
         arm_elements=empty,
         arm_pivot_nodes=empty,
         arm_masts=empty,
-        spring_dofs=empty,
-        spring_stiffness=np.zeros(0),
-        spring_masts=empty,
+        spring_dofs=springs,
+        spring_stiffness=np.full(len(springs), support_stiffness or 0.0),
+        spring_masts=np.arange(len(springs)),
         pin_nodes=empty,
         pin_normals=np.zeros((0, 3)),
         fixed_dofs=fixed.ravel(),

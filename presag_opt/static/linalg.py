@@ -10,6 +10,7 @@ exact solution of the same linear system.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,7 +89,7 @@ class Factor:
             return self.lu.solve(rhs)
         perm = self.solver.permutation
         out = np.empty_like(rhs, dtype=float)
-        if rhs.ndim == 2 and rhs.shape[1] >= MANY_RIGHT_HAND_SIDES:
+        if rhs.ndim == 2 and _compiled_solve_pays(rhs.shape[0], rhs.shape[1]):
             out[perm] = _banded_cholesky_solve(self.cholesky, np.ascontiguousarray(rhs[perm], dtype=float))
         else:
             out[perm] = sla.cho_solve_banded((self.cholesky, True), rhs[perm], check_finite=False)
@@ -97,7 +98,28 @@ class Factor:
 
 MANY_RIGHT_HAND_SIDES = 16
 """Right-hand sides from which :func:`_banded_cholesky_solve` beats LAPACK's column-by-column solve
-(4× at 84 columns of the 31-span section; it compiles once per machine, about a second). [-]"""
+once its kernel is loaded (4× at 84 columns of the 31-span section). [-]"""
+
+FIRST_USE_WORK = 1.1e7
+"""Rows × right-hand sides, summed over a process's many-column solves, from which the compiled
+solve pays for its first use (importing numba and loading the cached kernel, about 0.5 s): measured
+on the 10-span section (7 239 rows, bandwidth 20), LAPACK 0.49 ms and the kernel 0.16 ms per column,
+so about 1 550 columns there. One span's elasticity stays with LAPACK; the 29 spans of the mixed
+section switch to the kernel after their first few. [-]"""
+
+_lapack_work = 0.0
+"""Rows × right-hand sides solved so far in this process by LAPACK in many-column solves. [-]"""
+
+
+def _compiled_solve_pays(rows: int, columns: int) -> bool:
+    """Whether to solve ``columns`` right-hand sides of ``rows`` rows with the compiled kernel."""
+    global _lapack_work
+    if columns < MANY_RIGHT_HAND_SIDES:
+        return False
+    if "presag_opt.static.kernels" in sys.modules:
+        return True
+    _lapack_work += rows * columns
+    return _lapack_work >= FIRST_USE_WORK
 
 
 def _banded_cholesky_solve(band: np.ndarray, rhs: np.ndarray) -> np.ndarray:

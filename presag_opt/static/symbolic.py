@@ -28,6 +28,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from presag_opt.errors import ConvergenceError
+from presag_opt.static.compiled import compile_elements, element_map
 from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
 from presag_opt.static.linalg import BandedSolver
 
@@ -139,6 +140,7 @@ def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
 
 
 _AXIAL, _BENDING, _AXIAL_ENERGY = _element_functions()
+compile_elements(_AXIAL, _AXIAL_ENERGY)  # the bending Hessian is constant: evaluated once per EI set
 
 
 class _MappedCall:
@@ -152,13 +154,19 @@ class _MappedCall:
     Parameters
     ----------
     function : casadi.Function
-        A mapped function whose inputs and outputs are dense (rows × elements).
+        A mapped function whose inputs and outputs are dense (rows × elements); it may take more
+        elements than are evaluated (padding up to whole compiled chunks, see
+        :func:`~presag_opt.static.compiled.element_map`).
+    count : int
+        Elements evaluated: the first ``count`` columns. [-]
     """
 
-    def __init__(self, function: ca.Function):
+    def __init__(self, function: ca.Function, count: int):
+        self.count = count
         self.buffer, self.trigger = function.buffer()
-        # CasADi stores an (rows × n) matrix column-major, i.e. as a C-ordered (n × rows) array
-        self.inputs = [np.zeros((function.size2_in(i), function.size1_in(i))) for i in range(function.n_in())]
+        # CasADi stores an (rows × n) matrix column-major, i.e. as a C-ordered (n × rows) array.
+        # Padding elements get inputs of 1 (finite results, discarded).
+        self.inputs = [np.ones((function.size2_in(i), function.size1_in(i))) for i in range(function.n_in())]
         self.outputs = [np.zeros((function.size2_out(i), function.size1_out(i))) for i in range(function.n_out())]
         for i, a in enumerate(self.inputs):
             self.buffer.set_arg(i, memoryview(a))
@@ -166,25 +174,25 @@ class _MappedCall:
             self.buffer.set_res(i, memoryview(a))
 
     def __call__(self, *inputs: np.ndarray) -> list[np.ndarray]:
-        """Evaluate; inputs and returned outputs are (rows × elements) arrays (the outputs are copies)."""
+        """Evaluate; inputs and returned outputs are (rows × count) arrays (the outputs are copies)."""
         for buffer, value in zip(self.inputs, inputs):
-            np.copyto(buffer, np.asarray(value).T)
+            np.copyto(buffer[: self.count], np.asarray(value).T)
         self.trigger()
-        return [out.T.copy() for out in self.outputs]
+        return [out[: self.count].T.copy() for out in self.outputs]
 
 
 _CALLS = threading.local()
 
 
-def _mapped_call(function: ca.Function) -> _MappedCall:
-    """This thread's buffered evaluator of a mapped element function (kept by the function's name,
-    which holds the element count, so that a :class:`PotentialFunctions` stays picklable)."""
+def _mapped_call(function: ca.Function, count: int) -> _MappedCall:
+    """This thread's buffered evaluator of a mapped element function over ``count`` elements (kept by
+    the function's name, which holds its mapped size, and the count)."""
     calls = _CALLS.__dict__.setdefault("calls", {})
-    key = function.name()
+    key = (function.name(), count)
     if key not in calls:
         if len(calls) >= 16:  # a few discretisations at a time; drop the oldest
             calls.pop(next(iter(calls)))
-        calls[key] = _MappedCall(function)
+        calls[key] = _MappedCall(function, count)
     return calls[key]
 
 # Entry (i, j) of the 6×6 element Hessian, column-major (j·6 + i), from the 3×3 one in d = x_b − x_a:
@@ -230,7 +238,7 @@ class PotentialFunctions:
     def _element_terms(self, x: np.ndarray, params: PhysicalParameters):
         """Energies, gradients (6 per element) and Hessian entries (36 per element, in the order of
         ``_hessian_slots``) of the axial elements (one mapped CasADi call)."""
-        energy, grad, hess = _mapped_call(self._axial)(*self._axial_inputs(x, params))
+        energy, grad, hess = _mapped_call(self._axial, self._axial_dofs.shape[1])(*self._axial_inputs(x, params))
         grad6 = np.vstack([-grad, grad])
         hess6 = _AXIAL_SIGNS[:, None] * hess[_AXIAL_ENTRY]
         return energy.ravel(), grad6.ravel(), hess6.ravel()
@@ -317,7 +325,8 @@ class PotentialFunctions:
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
         """Total potential energy. [J]"""
         disc = self.discretisation
-        total = -float(params.nodal_force @ x) + float(_mapped_call(self._axial_energy)(*self._axial_inputs(x, params))[0].sum())
+        count = self._axial_dofs.shape[1]
+        total = -float(params.nodal_force @ x) + float(_mapped_call(self._axial_energy, count)(*self._axial_inputs(x, params))[0].sum())
         if self._bending is not None:
             total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
         if len(disc.spring_dofs):
@@ -381,8 +390,8 @@ def build_potential(disc: Discretisation) -> PotentialFunctions:
         disc,
         free,
         BandedSolver.for_pattern(pattern),
-        _AXIAL.map(len(ax)),
-        _AXIAL_ENERGY.map(len(ax)),
+        element_map(_AXIAL, len(ax))[0],
+        element_map(_AXIAL_ENERGY, len(ax))[0],
         _BENDING.map(len(b.node_a)) if len(b.node_a) else None,
         axial_dofs,
         bending_dofs,

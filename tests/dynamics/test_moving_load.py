@@ -13,10 +13,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
 from presag_opt.dynamics.simulate import SimulationSettings, simulate
+from presag_opt.errors import ModelError
+from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import lone_wire_state
-from presag_opt.system.catenary import Wire
+from presag_opt.system.catenary import Damping, Wire
 from presag_opt.validation.dynamic_model import moving_force_on_string
 from presag_opt.validation.dynamic_model import string_under_moving_force as series
 
@@ -80,31 +84,72 @@ def test_newmark_follows_the_modal_series(beta, max_tol, rms_tol):
     assert coarse_rms / fine_rms > 1.3
 
 
-@pytest.mark.xfail(strict=True, raises=AttributeError, reason="needs simulate() to accept a lone-wire state (lone_wire_state): today it "
-                   "reads state.catenary.contact_wire and fails with AttributeError")
-def test_simulator_on_a_lone_wire_follows_the_modal_series():
-    """The whole simulator (structure, contact, pantograph, statistics path) on a lone tensioned wire
-    at β = 0.2, against the series evaluated under the force, w(vt, t).
+SUPPORT_STIFFNESS = 1e9
+"""Vertical stiffness of the lone wire's end supports [N/m]: they yield FORCE/k = 1e-7 m, 7e-7 of
+STATIC_MID, so the wire is pinned for this check."""
 
-    Expected API: ``simulate(lone_wire_state(wire, length), pantograph, speed=…, static_force=…,
-    settings=SimulationSettings(analysed_spans=1, lead_in_spans=0))`` runs the pantograph from one end
-    of the wire to the other (the wire is one span between two fixed ends) and returns the uplift of
-    the contact point in ``result.pantographs[0].wire_uplift`` at ``result.time``, measured from the
-    static equilibrium under gravity. The pantograph below has heavy, stiffly coupled stages, so its
-    contact force stays close to the static force at β = 0.2; tolerance 5 % of P l/(4T): the 1 %
-    of the integrator check above plus the contact-force variation (a first estimate, to be
-    confirmed when the API exists).
+
+def _lone_wire_run(beta: float) -> tuple:
+    """Lone wire, pantograph, speed and settings of the simulator's moving-force check.
+
+    The wire is the string above (same tension, mass and length), undamped (the series is), at
+    0.25 m / 0.5 ms with Newmark average acceleration. The pantograph is a 0.1 kg head on a free
+    frame: the uplift force acts on the head, so its contact force departs from the static force
+    only by the head's inertia, m·ẅ; a heavier head (5 kg on a 1e5 N/m suspension) makes the
+    contact force swing between 0 and 220 N at β = 0.2 and the check meaningless. The contact
+    stiffness of the default contact (50 kN/m) on 0.1 kg needs steps ≤ 0.89 ms.
     """
     wire = Wire(tension=TENSION, mass_per_length=MASS_PER_LENGTH, axial_stiffness=14.4e6)
-    pantograph = Pantograph(name="near-constant force", stages=(
-        PantographStage(name="head", mass=5.0, stiffness=1e5, damping=0.0),
-        PantographStage(name="frame", mass=5.0),
+    pantograph = Pantograph(name="light head", stages=(
+        PantographStage(name="head", mass=0.1),
+        PantographStage(name="frame", mass=1.0),
     ))
-    speed = 0.2 * WAVE_SPEED
-    result = simulate(lone_wire_state(wire, LENGTH), pantograph, speed=speed, static_force=FORCE,
-                      settings=SimulationSettings(analysed_spans=1, lead_in_spans=0))
-    t = result.time
+    static = StaticSettings(element_length=0.25)
+    state = lone_wire_state(wire, LENGTH, static, support_stiffness=SUPPORT_STIFFNESS, damping=Damping(ratio=0.0))
+    settings = SimulationSettings(
+        analysed_spans=1, lead_in_spans=0, run_out=0.0, numerics="fixed", static=static,
+        integrator=IntegratorSettings(time_step=5e-4, scheme="newmark"),
+    )
+    return state, pantograph, beta * WAVE_SPEED, settings
+
+
+@pytest.mark.parametrize(
+    ("beta", "max_tol", "rms_tol"),
+    # Measured: max 0.64, 0.89, 2.02 %; RMS 0.14, 0.20, 0.45 % of P l/(4T) — the integrator's own
+    # error on the bare string (test above: 0.66, 0.99, 1.81 %), so the catenary machinery (structure
+    # from the static tangent stiffness, contact path, pantograph coupling) adds next to nothing.
+    # Same tolerances as above. Structural damping of 0.02 (the default for a system without its
+    # own) makes the β = 0.2 error 5.2 % (measured): damping left in by mistake fails this test.
+    [(0.2, 0.010, 0.002), (0.4, 0.014, 0.003), (0.6, 0.025, 0.006)],
+)
+def test_simulator_on_a_lone_wire_follows_the_modal_series(beta, max_tol, rms_tol):
+    """The whole simulator (structure, contact, pantograph, recorded uplift) on a lone tensioned wire,
+    against the series under the force, w(vt, t), from one support to the other."""
+    state, pantograph, speed, settings = _lone_wire_run(beta)
+    result = simulate(state, pantograph, speed=speed, static_force=FORCE, settings=settings)
+    t, uplift = result.time, result.pantographs[0].wire_uplift
     inside = (speed * t > 1.0) & (speed * t < LENGTH - 1.0)
-    expected = string_under_moving_force(speed * t[inside], t[inside], speed)
-    error = np.abs(result.pantographs[0].wire_uplift[inside] - expected).max()
-    assert error < 0.05 * STATIC_MID
+    error = uplift[inside] - string_under_moving_force(speed * t[inside], t[inside], speed)
+    assert np.abs(error).max() < max_tol * STATIC_MID
+    assert np.sqrt(np.mean(error**2)) < rms_tol * STATIC_MID
+
+
+def test_batch_engine_runs_the_lone_wire_like_the_single_run_engine():
+    """The batch engine on the same lone wire: the contact force history of the single-run engine to
+    1e-6 N (both solve the same equations to the Newton tolerance; they agree to round-off on
+    catenaries)."""
+    state, pantograph, speed, settings = _lone_wire_run(0.4)
+    single = simulate(state, pantograph, speed=speed, static_force=FORCE, settings=settings)
+    batch = simulate_many(state, pantograph, [OperatingPoint(speed=speed, static_force=FORCE)],
+                          settings=settings, keep_histories=True)
+    run = batch.runs[0]
+    assert run.error is None
+    np.testing.assert_allclose(run.contact_force[:, 0], single.pantographs[0].contact_force, rtol=0, atol=1e-6)
+
+
+def test_a_pinned_lone_wire_is_refused_by_the_simulator():
+    """With its ends held fixed the pantograph could not lift the wire there: one clear error."""
+    state = lone_wire_state(Wire(tension=TENSION, mass_per_length=MASS_PER_LENGTH, axial_stiffness=14.4e6), LENGTH)
+    _, pantograph, speed, settings = _lone_wire_run(0.2)
+    with pytest.raises(ModelError, match="support_stiffness"):
+        simulate(state, pantograph, speed=speed, static_force=FORCE, settings=settings)
