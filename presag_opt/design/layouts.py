@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand, force_levels_for_band
-from presag_opt.design.recommendation import layout_recommendation, recommend
+from presag_opt.design.recommendation import Recommendation, layout_recommendation, recommend
 from presag_opt.design.section import section_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
@@ -47,6 +47,20 @@ class MixedFinding:
     label: str
     ideal_range: tuple[float, float]
     mixed_range: tuple[float, float]
+
+    @classmethod
+    def from_recommendation(cls, label: str, recommendation: Recommendation) -> MixedFinding:
+        """The finding of a recommendation over one ideal and one mixed layout.
+
+        Raises
+        ------
+        ModelError
+            If the recommendation does not have exactly one layout of each kind.
+        """
+        by_kind = {lay.layout_kind: lay.presag_rel_range for lay in recommendation.layouts}
+        if sorted(lay.layout_kind for lay in recommendation.layouts) != ["ideal", "mixed"]:
+            raise ModelError(f"variant {label!r}: give one ideal and one mixed layout")
+        return cls(label=label, ideal_range=by_kind["ideal"], mixed_range=by_kind["mixed"])
 
     @property
     def ratio(self) -> float:
@@ -89,10 +103,7 @@ def mixed_versus_ideal(
         if progress:
             progress(f"mixed against ideal: {label}")
         result = recommend(models=[ideal, mixed], band=band, step=step, settings=settings)
-        by_kind = {lay.layout_kind: lay.presag_rel_range for lay in result.layouts}
-        if set(by_kind) != {"ideal", "mixed"}:
-            raise ModelError(f"variant {label!r}: give one ideal and one mixed layout")
-        out.append(MixedFinding(label=label, ideal_range=by_kind["ideal"], mixed_range=by_kind["mixed"]))
+        out.append(MixedFinding.from_recommendation(label, result))
     return tuple(out)
 
 
