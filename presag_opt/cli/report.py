@@ -57,7 +57,7 @@ def report_command(args: argparse.Namespace) -> int:
         result = design_report(models, band=band, pantograph=args.pantograph or CASE_STUDY_PANTOGRAPH,
                                study=args.study, within=within, quick=args.quick, progress=report)
         path = write_report(result, folder)
-    print_warnings(str(w.message) for w in caught)
+    print_warnings([*(str(w.message) for w in caught), *result.validity.warnings])
     rec, tol, validity = result.recommendation, result.robust.tolerance, result.validity
     l_ref = result.robust.reference_span
     summary = {

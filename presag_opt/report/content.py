@@ -79,24 +79,38 @@ class ValidityRange:
         The study's statistics.
     result : ValidityResult
         Its analysis.
-    wave_speed : float
-        Contact-wire wave speed of the studied line. [m/s]
+    line_wave_speed : float
+        Contact-wire wave speed of the line the report is for. [m/s]
     """
 
     source: str
     dataset: xr.Dataset
     result: ValidityResult
-    wave_speed: float
+    line_wave_speed: float
+
+    @property
+    def wave_speed(self) -> float:
+        """Contact-wire wave speed of the studied line, v/β of the study's runs. [m/s]"""
+        return float(self.dataset["speed"].values[0] / self.dataset["beta"].values[0, 0])
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Set when the study is of another contact wire than the report's line."""
+        if abs(self.wave_speed / self.line_wave_speed - 1.0) <= 0.01:
+            return ()
+        return (f"the validity study {self.dataset.attrs.get('study_name', '')!r} is of a contact wire with wave "
+                f"speed {self.wave_speed / KMH:.0f} km/h, this line's is {self.line_wave_speed / KMH:.0f} km/h: its "
+                "speeds do not carry over (compare speed ratios β)",)
 
     @property
     def limit_speed(self) -> float | None:
-        """β*·c_CW, the speed up to which the Δe rule holds in this study (None if not found). [m/s]"""
+        """β*·c_CW of the studied line, the speed up to which the Δe rule holds there (None if not found). [m/s]"""
         return None if self.result.beta_limit is None else self.result.beta_limit * self.wave_speed
 
     @property
     def paper_limit_speed(self) -> float:
-        """The paper's β = 0.4 as a speed on this line. [m/s]"""
-        return QUASI_STATIC_BETA_LIMIT * self.wave_speed
+        """The paper's β = 0.4 as a speed on the report's line. [m/s]"""
+        return QUASI_STATIC_BETA_LIMIT * self.line_wave_speed
 
     def text(self) -> str:
         """β* and its speed in words, or why the grid gives no limit."""
@@ -221,7 +235,7 @@ def design_report(
         sweep_note = definition.description
     validity = ValidityRange(
         source=str(study) if study is not None else f"reduced sweep run for this report: {sweep_note}",
-        dataset=dataset, result=validity_analysis(dataset), wave_speed=catenaries[0].contact_wire.wave_speed)
+        dataset=dataset, result=validity_analysis(dataset), line_wave_speed=catenaries[0].contact_wire.wave_speed)
     inputs = tuple(e for m in models for e in model_entries(m)) + model_entries(pantograph, "pantographs")
     return DesignReport(
         models=models, pantograph=resolve_model_path(pantograph, "pantographs").stem, band=band,

@@ -106,6 +106,8 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     parts = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Pre-sag design report</title>"
              f"<style>{CSS}</style></head><body>"]
     parts.append(f"<h1>Pre-sag design report: {_e(', '.join(lay.catenary_name for lay in rec.layouts))}</h1>")
+    for note in validity.warnings:
+        parts.append(f"<p class='warn'>Note: {_e(note)}.</p>")
     if report.quick:
         parts.append("<p class='warn'>Draft (<code>--quick</code>): coarse numerics (1 m elements, 4 ms, a 2 × 2 × 2 "
                      "sweep). Run the report without <code>--quick</code> for numbers to quote.</p>")
