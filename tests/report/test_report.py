@@ -74,3 +74,19 @@ def test_bad_input_on_the_command_line_is_one_line(tmp_path):
     assert result.returncode == 2 and "Traceback" not in result.stderr
     (line,) = result.stderr.strip().splitlines()
     assert line.startswith("presag: error: ") and "neither a file nor a built-in catenary model" in line
+
+
+def test_a_stored_study_of_another_contact_wire_is_flagged():
+    """The validity speed is β*·c of the studied wire (c = v/β of its runs: here 100 m/s); a report for a
+    line whose wire is more than 1 % faster or slower says the speeds do not carry over."""
+    import xarray as xr
+
+    from presag_opt.report.content import ValidityRange
+
+    dataset = xr.Dataset({"beta": (("presag", "speed"), [[0.2, 0.4]])}, coords={"speed": [20.0, 40.0]},
+                         attrs={"study_name": "other wire"})
+    same = ValidityRange(source="stored", dataset=dataset, result=None, line_wave_speed=100.5)
+    other = ValidityRange(source="stored", dataset=dataset, result=None, line_wave_speed=80.0)
+    assert same.wave_speed == pytest.approx(100.0, rel=1e-12)
+    assert same.warnings == ()
+    assert "'other wire'" in other.warnings[0] and "do not carry over" in other.warnings[0]
