@@ -14,28 +14,13 @@ as the wire carries it, f_c/(1 − β). ``--quick`` uses two rungs per ladder.
 from __future__ import annotations
 
 import argparse
-import dataclasses
-import time
 
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.case import load_case
-from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.validation.dynamic_model import convergence_study
 
 CASES = {"en50318_2002": (250.0, 300.0), "case_study_st98": (50.0, 90.0, 120.0, 180.0)}
 ELEMENTS = (0.5, 0.4, 0.33, 0.25)
 STEPS_MS = (2.0, 1.5, 1.0, 0.5)
-
-
-def run(case, speeds_kmh, element_length, time_step):
-    settings = dataclasses.replace(
-        case.settings, static=StaticSettings(element_length=element_length),
-        integrator=dataclasses.replace(case.settings.integrator, time_step=time_step),
-    )
-    state = form_find(case.catenary, settings.static)
-    points = [OperatingPoint(speed=v / 3.6, static_force=case.operation.static_force,
-                             aero_coefficient=case.operation.aero_coefficient) for v in speeds_kmh]
-    return simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings)
 
 
 def main() -> None:
@@ -54,23 +39,19 @@ def main() -> None:
         }
         for label, ladder in ladders.items():
             print(f"\n{name}: {label} ladder")
-            results = []
-            for h, dt in ladder:
-                started = time.perf_counter()
-                batch = run(case, speeds, h, dt)
-                results.append((h, dt, batch, time.perf_counter() - started))
-            finest = results[-1][2]
+            study = convergence_study(case, [v / 3.6 for v in speeds], ladder)
+            finest = study.rungs[-1]
             print(f"{'v':>5} {'β':>6} {'h [m]':>6} {'dt [ms]':>7} {'el/λ':>6} {'steps/T':>7} {'σ [N]':>8} "
                   f"{'Δσ':>7} {'ΔF_m':>7} {'Δmax':>7} {'wall [s]':>8}")
-            for h, dt, batch, wall in results:
-                for run_, ref in zip(batch.runs, finest.runs):
-                    v = run_.point.speed
+            for rung in study.rungs:
+                h, dt = rung.element_length, rung.time_step
+                for i, v in enumerate(rung.speeds):
                     shortest = (c - v) / f_c
-                    st, fs = run_.statistics[0], ref.statistics[0]
                     print(f"{v * 3.6:5.0f} {v / c:6.3f} {h:6.2f} {dt * 1e3:7.2f} {shortest / h:6.1f} "
-                          f"{(1 - v / c) / (f_c * dt):7.1f} {st.std_force:8.3f} "
-                          f"{st.std_force / fs.std_force - 1:+7.2%} {st.mean_force / fs.mean_force - 1:+7.2%} "
-                          f"{st.max_force / fs.max_force - 1:+7.2%} {wall:8.1f}")
+                          f"{(1 - v / c) / (f_c * dt):7.1f} {rung.std_force[i]:8.3f} "
+                          f"{rung.std_force[i] / finest.std_force[i] - 1:+7.2%} "
+                          f"{rung.mean_force[i] / finest.mean_force[i] - 1:+7.2%} "
+                          f"{rung.max_force[i] / finest.max_force[i] - 1:+7.2%} {rung.seconds:8.1f}")
 
 
 if __name__ == "__main__":

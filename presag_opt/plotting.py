@@ -1,4 +1,8 @@
-"""Figures. Plotting stays out of the physics modules; every function saves to a file."""
+"""Figures of the command line, the notebooks and the HTML report, in the one style of
+:mod:`presag_opt.style`. Plotting stays out of the physics modules; every function saves to a file
+(the suffix selects the format) and returns its path. Every axis carries its unit; legends sit
+right of the axes, never over data. The validity-study figures are in :mod:`presag_opt.studies.plots`.
+"""
 
 from __future__ import annotations
 
@@ -6,16 +10,19 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from presag_opt.elasticity import ElasticityStudy  # noqa: E402
+from presag_opt.elasticity import ElasticityStudy
+from presag_opt.style import legend_outside, new_figure, save_figure
 
 if TYPE_CHECKING:
     from presag_opt.design import Recommendation
+    from presag_opt.design.layouts import CurveEffect, MixedFinding
+    from presag_opt.dynamics.batch import BatchResult
+    from presag_opt.dynamics.simulate import SimulationResult
+    from presag_opt.robust import DynamicCheck, RobustDesign, RobustStudy
     from presag_opt.validation import SingleCurveError
+    from presag_opt.validation.dynamic_model import ConvergenceStudy, CrawlingCheck, MovingForceCheck
 
 
 def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
@@ -28,7 +35,7 @@ def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     path : str or Path
         Output file; the suffix selects the format (png, pdf, svg).
     """
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = new_figure(legend=True)
     for curve in study.curves:
         label = "linear (tangent stiffness)" if curve.force is None else f"F = {curve.force:g} N"
         style = "k--" if curve.force is None else "-"
@@ -36,9 +43,8 @@ def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     ax.set_xlabel("position in span x [m]")
     ax.set_ylabel("elasticity e [mm/N]")
     ax.set_title(f"{study.catenary_name}: span {study.span + 1}")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    return _save(fig, path)
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
 
 
 def plot_presag_against_force(recommendation: Recommendation, path: str | Path) -> Path:
@@ -59,10 +65,10 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     ----------
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Fig. 5a.
     """
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = new_figure(legend=True)
     for i, lay in enumerate(recommendation.layouts):
         color = f"C{i}"
-        label = f"{lay.layout_kind}: {lay.catenary_name}"
+        label = lay.layout_kind
         ax.plot(lay.mean_forces, lay.presag_rel_mid_mast * 1e3, "-", color=color, label=f"{label}, e_mid − e_mast")
         ax.plot(lay.mean_forces, lay.presag_rel_delta_e * 1e3, "--", color=color, label=f"{label}, Δe")
     low, high = recommendation.mean_force_band
@@ -73,10 +79,10 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     span = recommendation.nominal_span_length
     right = ax.secondary_yaxis("right", functions=(lambda r: r * span, lambda s: s / span))
     right.set_ylabel(f"pre-sag S on a {span:g} m span [mm]")
-    ax.set_title(f"Quasi-static pre-sag (range and recommendation from the {recommendation.method} variant)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    return _save(fig, path)
+    systems = ", ".join(dict.fromkeys(lay.catenary_name for lay in recommendation.layouts))
+    ax.set_title(f"Quasi-static pre-sag: {systems}\n(range and recommendation from the {recommendation.method} variant)")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
 
 
 def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Path) -> Path:
@@ -93,7 +99,7 @@ def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Pat
     ----------
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Fig. 5b.
     """
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, (top, bottom) = new_figure(2, 1, height=5.5, legend=True, sharex=True)
     for i, study in enumerate(studies):
         color = f"C{i}"
         geometry = f"{study.geometry_presag * 1e3:.0f} mm geometry"
@@ -104,17 +110,11 @@ def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Pat
         )
         bottom.plot(study.mean_forces, study.relative_error * 100, "-", color=color, label=geometry)
     top.set_ylabel("pre-sag S [mm]")
-    top.grid(True, alpha=0.3)
-    top.legend(fontsize=7)
     bottom.set_xlabel("mean contact force F_m [N]")
     bottom.set_ylabel("relative error [%]")
-    bottom.grid(True, alpha=0.3)
-    bottom.legend(fontsize=7)
     fig.suptitle(f"One elasticity curve instead of interpolation ({studies[0].catenary_name})" if studies else "")
-    return _save(fig, path)
-
-
-from presag_opt.dynamics.simulate import SimulationResult  # noqa: E402
+    legend_outside(fig, top)
+    return save_figure(fig, path)
 
 
 def plot_contact_force(results: SimulationResult | list[SimulationResult], path: str | Path) -> Path:
@@ -129,8 +129,8 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
     path : str or Path
         Output file; the suffix selects the format (png, pdf, svg).
     """
-    runs = [results] if isinstance(results, SimulationResult) else list(results)
-    fig, axes = plt.subplots(len(runs), 1, figsize=(9, 3.2 * len(runs)), squeeze=False)
+    runs = list(results) if isinstance(results, (list, tuple)) else [results]
+    fig, axes = new_figure(len(runs), 1, width=8.0, height=3.2 * len(runs), legend=True, squeeze=False)
     for ax, run in zip(axes[:, 0], runs):
         ax.axvspan(*run.analysed_section, color="0.9", label="analysed section")
         for i, panto in enumerate(run.pantographs):
@@ -146,13 +146,12 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
             fontsize=9,
         )
         ax.set_ylabel("contact force [N]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, loc="upper right")
     axes[-1, 0].set_xlabel("position along the section [m]")
-    return _save(fig, path)
+    legend_outside(fig, axes[0, 0])
+    return save_figure(fig, path)
 
 
-def plot_batch_statistics(batch, path: str | Path) -> Path:
+def plot_batch_statistics(batch: BatchResult, path: str | Path) -> Path:
     """σ/F_m and σ against speed, one line per static force, for a batch of runs.
 
     Parameters
@@ -162,7 +161,7 @@ def plot_batch_statistics(batch, path: str | Path) -> Path:
     path : str or Path
         Output file; the suffix selects the format (png, pdf, svg).
     """
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    fig, (top, bottom) = new_figure(2, 1, height=6.0, legend=True, sharex=True)
     forces = sorted({r.point.static_force for r in batch.runs})
     for i, force in enumerate(forces):
         runs = sorted((r for r in batch.runs if r.ok and r.point.static_force == force), key=lambda r: r.point.speed)
@@ -173,14 +172,11 @@ def plot_batch_statistics(batch, path: str | Path) -> Path:
     bottom.set_ylabel("σ [N]")
     bottom.set_xlabel("speed [km/h]")
     top.set_title(f"{batch.catenary_name}: contact-force statistics ({batch.pantograph_names[0]})", fontsize=9)
-    for ax in (top, bottom):
-        ax.grid(True, alpha=0.3)
-    top.legend(title="F_stat", fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.tight_layout()
-    return _save(fig, path)
+    legend_outside(fig, top, title="F_stat")
+    return save_figure(fig, path)
 
 
-def plot_waviness(study, path: str | Path) -> Path:
+def plot_waviness(study: RobustStudy, path: str | Path) -> Path:
     """Worst-case and per-force waviness R against the parabolic pre-sag S over the band.
 
     Parameters
@@ -190,14 +186,12 @@ def plot_waviness(study, path: str | Path) -> Path:
     path : str or Path
         Output file.
     """
-    import numpy as np
-
     model = study.path
     l_ref = study.reference_span
     rel = np.linspace(0.0, 2.0 * max(study.robust_parabola.presag_rel, study.nominal.presag_rel), 200)
     forces = study.scenarios.forces
     waviness = np.array([model.waviness(model.parabola_depths(s), forces).max(axis=1) for s in rel])  # (S, K)
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = new_figure(legend=True)
     s_mm = rel * l_ref * 1e3
     for k in range(0, len(forces), max(1, len(forces) // 6)):
         ax.plot(s_mm, waviness[:, k] * 1e3, color="0.7", lw=0.8)
@@ -211,15 +205,199 @@ def plot_waviness(study, path: str | Path) -> Path:
     ax.set_xlabel(f"pre-sag S on a {l_ref:g} m span [mm]")
     ax.set_ylabel("path waviness R [mm]")
     ax.set_title(f"{study.catenary_name}: F_m {forces.min():g}–{forces.max():g} N")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    return _save(fig, path)
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
 
 
-def _save(fig: plt.Figure, path: str | Path) -> Path:
-    """Lay out, save (150 dpi; the suffix selects the format) and close a figure; return its path."""
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+def plot_dropper_profile(study: RobustStudy, design: RobustDesign, path: str | Path) -> Path:
+    """Dropper depths of a per-dropper design beside the robust and nominal parabolas, per analysed span.
+
+    Parameters
+    ----------
+    study : RobustStudy
+        The study (its path model, robust parabola and nominal design).
+    design : RobustDesign
+        A per-dropper design on the same path model.
+    path : str or Path
+        Output file.
+    """
+    model = study.path
+    fig, ax = new_figure(legend=True)
+    lengths = np.asarray(model.state.catenary.layout.span_lengths)
+    for k, span in enumerate(model.spans):
+        sel = model.dropper_span == span
+        x = model.dropper_fraction[sel] * lengths[span]
+        label = k == 0
+        ax.plot(x, design.depths[sel] * 1e3, "o-", color="C0", label="per-dropper design" if label else None)
+        ax.plot(x, model.parabola_depths(study.robust_parabola.presag_rel)[sel] * 1e3, "--", color="C2",
+                label="robust parabola" if label else None)
+        ax.plot(x, model.parabola_depths(study.nominal.presag_rel)[sel] * 1e3, ":", color="C1",
+                label="nominal Δe parabola" if label else None)
+    ax.invert_yaxis()
+    ax.set_xlabel("dropper position from the span's first mast [m]")
+    ax.set_ylabel("contact-wire depth below the supports [mm]")
+    ax.set_title(f"{study.catenary_name}: worst-case R {design.worst_case_waviness * 1e3:.1f} mm (per-dropper), "
+                 f"{study.robust_parabola.worst_case_waviness * 1e3:.1f} mm (parabola)")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
+
+
+def plot_dynamic_check(check: DynamicCheck, path: str | Path) -> Path:
+    """σ/F_m and the steady-arm uplift of every run of a dynamic check against β, one colour per design.
+
+    Parameters
+    ----------
+    check : DynamicCheck
+        The runs.
+    path : str or Path
+        Output file.
+    """
+    from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+
+    fig, (top, bottom) = new_figure(2, 1, height=5.5, legend=True, sharex=True)
+    for i, design in enumerate(dict.fromkeys(r.design for r in check.runs)):
+        runs = sorted((r for r in check.runs if r.design == design), key=lambda r: (r.static_force, r.beta))
+        label = f"{design} ({runs[0].presag * 1e3:.0f} mm)"
+        top.plot([r.beta for r in runs], [r.sigma_over_mean for r in runs], "o", color=f"C{i}", label=label)
+        bottom.plot([r.beta for r in runs], [r.uplift_max * 1e3 for r in runs], "o", color=f"C{i}")
+    for ax in (top, bottom):
+        ax.axvline(check.beta_limit, color="0.4", ls=":", label=f"β = {check.beta_limit:g}" if ax is top else None)
+    bottom.axhline(STEADY_ARM_UPLIFT_LIMIT * 1e3, color="C6", ls="--")
+    top.plot([], [], color="C6", ls="--", label=f"uplift limit {STEADY_ARM_UPLIFT_LIMIT * 1e3:g} mm (lower panel)")
+    top.set_ylabel("σ/F_m [-]")
+    bottom.set_ylabel("max steady-arm uplift [mm]")
+    bottom.set_xlabel("speed ratio β = v/c_CW [-]")
+    legend_outside(fig, top)
+    return save_figure(fig, path)
+
+
+def plot_crawling(check: CrawlingCheck, path: str | Path) -> Path:
+    """Simulated contact-wire uplift at crawling speed beside contact force × static elasticity.
+
+    Parameters
+    ----------
+    check : CrawlingCheck
+        The run.
+    path : str or Path
+        Output file.
+    """
+    fig, (top, bottom) = new_figure(2, 1, height=5.0, legend=True, sharex=True)
+    top.plot(check.position, check.uplift * 1e3, color="C0", label="simulated uplift")
+    top.plot(check.position, check.expected * 1e3, "--", color="C1", label="contact force × static e(x)")
+    bottom.plot(check.position, (check.uplift / check.expected - 1.0) * 100, color="C0")
+    top.set_ylabel("contact-wire uplift [mm]")
+    bottom.set_ylabel("difference [%]")
+    bottom.set_xlabel("position in the span [m]")
+    top.set_title(f"{check.speed * 3.6:g} km/h (β = {check.beta:.3f}), {check.static_force:g} N")
+    legend_outside(fig, top)
+    return save_figure(fig, path)
+
+
+def plot_moving_force(checks: Sequence[MovingForceCheck], path: str | Path) -> Path:
+    """Mid-point deflection of a string under a moving force: integrator against the modal series.
+
+    Parameters
+    ----------
+    checks : sequence of MovingForceCheck
+        One per speed ratio.
+    path : str or Path
+        Output file.
+    """
+    fig, ax = new_figure(legend=True)
+    for i, check in enumerate(checks):
+        t = check.time / check.time[-1]
+        ax.plot(t, check.analytic / check.static_mid, "-", color=f"C{i}", label=f"β = {check.beta:g}, modal series")
+        ax.plot(t[::max(1, len(t) // 40)], (check.numerical / check.static_mid)[::max(1, len(t) // 40)], "o",
+                ms=3, color=f"C{i}", label=f"β = {check.beta:g}, Newmark ({check.element_length:g} m, "
+                f"{check.time_step * 1e3:g} ms)")
+    ax.set_xlabel("position of the force along the string, x/l [-]")
+    ax.set_ylabel("mid-point deflection / (P·l/4T) [-]")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
+
+
+def plot_convergence(study: ConvergenceStudy, path: str | Path) -> Path:
+    """σ against the element length and time step of each rung, one line per speed.
+
+    Parameters
+    ----------
+    study : ConvergenceStudy
+        The ladder.
+    path : str or Path
+        Output file.
+    """
+    fig, ax = new_figure(legend=True)
+    labels = [f"{r.element_length:g} m / {r.time_step * 1e3:g} ms" for r in study.rungs]
+    sigma = np.array([r.std_force for r in study.rungs])
+    for j, speed in enumerate(study.rungs[0].speeds):
+        ax.plot(range(len(labels)), sigma[:, j], "o-", color=f"C{j}",
+                label=f"{speed * 3.6:g} km/h (β = {study.rungs[0].betas[j]:.2f})")
+    ax.set_xticks(range(len(labels)), labels)
+    ax.set_xlabel("element length / time step [m / ms]")
+    ax.set_ylabel("contact-force standard deviation σ [N]")
+    ax.set_title(study.case_name)
+    legend_outside(fig, ax)
+    return save_figure(fig, path)
+
+
+def plot_curve_effects(effects: Sequence[CurveEffect], path: str | Path) -> Path:
+    """Steady-arm pull, support elasticity and quasi-static S_rel against the curve radius.
+
+    Straight track (radius 0) is drawn at the right end, as the limit of a large radius.
+
+    Parameters
+    ----------
+    effects : sequence of CurveEffect
+        One per radius.
+    path : str or Path
+        Output file.
+    """
+    curved = sorted((e for e in effects if e.radius), key=lambda e: abs(e.radius))
+    straight = [e for e in effects if not e.radius]
+    fig, axes = new_figure(1, 3, width=9.0, height=3.2, legend=True)
+    x = [abs(e.radius) for e in curved]
+    for ax, values, label in (
+        (axes[0], [e.steady_arm_pull / 1e3 for e in curved], "mean steady-arm pull [kN]"),
+        (axes[1], [e.e_mast * 1e3 for e in curved], "e at the supports [mm/N]"),
+        (axes[2], [e.presag_rel * 1e3 for e in curved], "quasi-static S_rel [‰]"),
+    ):
+        ax.plot(x, values, "o-", color="C0", label="curved track")
+        ax.set_xlabel("curve radius R [m]")
+        ax.set_ylabel(label)
+    for e in straight:
+        for ax, value in zip(axes, (e.steady_arm_pull / 1e3, e.e_mast * 1e3, e.presag_rel * 1e3)):
+            ax.axhline(value, color="C1", ls="--", label="straight track")
+    for e in curved:
+        axes[0].plot([abs(e.radius)] * 2, np.array(e.steady_arm_pull_range) / 1e3, color="0.6", lw=3, alpha=0.5)
+        axes[2].plot([abs(e.radius)] * 2, np.array(e.presag_rel_range) * 1e3, color="0.6", lw=3, alpha=0.5)
+    axes[2].plot([], [], color="0.6", lw=3, alpha=0.5, label="range: arms (left), F_m band (right)")
+    legend_outside(fig, axes[2])
+    return save_figure(fig, path)
+
+
+def plot_mixed_findings(findings: Sequence[MixedFinding], path: str | Path,
+                        paper: dict[str, tuple[float, float]] | None = None) -> Path:
+    """S_rel range on ideal and on mixed spans for each variant of the assumptions (and the paper's).
+
+    Parameters
+    ----------
+    findings : sequence of MixedFinding
+        One per variant.
+    path : str or Path
+        Output file.
+    paper : dict, optional
+        The paper's ranges by layout (``ideal``, ``mixed``) in ‰.
+    """
+    rows = [(f.label, f.ideal_range, f.mixed_range) for f in findings]
+    if paper:
+        rows.append(("paper (section 5.2)", tuple(v * 1e-3 for v in paper["ideal"]),
+                     tuple(v * 1e-3 for v in paper["mixed"])))
+    fig, ax = new_figure(height=0.5 * len(rows) + 1.2, legend=True)
+    for i, (label, ideal, mixed) in enumerate(rows):
+        ax.plot(np.array(ideal) * 1e3, [i + 0.12] * 2, color="C0", lw=5, label="ideal spans" if i == 0 else None)
+        ax.plot(np.array(mixed) * 1e3, [i - 0.12] * 2, color="C1", lw=5, label="mixed spans" if i == 0 else None)
+    ax.set_yticks(range(len(rows)), [r[0] for r in rows])
+    ax.invert_yaxis()
+    ax.set_xlabel("S_rel over the F_m band [‰]")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)

@@ -212,9 +212,9 @@ def test_pantograph_and_model_arguments_list_the_built_in_models():
 
 def test_nothing_cites_a_file_outside_the_repository():
     cited = []
-    for folder in ("models", "tests", "presag_opt", "docs"):
+    for folder in ("models", "tests", "presag_opt", "docs", "notebooks"):
         for path in (REPOSITORY / folder).rglob("*"):
-            if path.suffix in (".py", ".toml", ".md") and path != Path(__file__).resolve():
+            if path.suffix in (".py", ".toml", ".md", ".ipynb") and path != Path(__file__).resolve():
                 if "DESIGN" in path.read_text(encoding="utf-8"):
                     cited.append(str(path.relative_to(REPOSITORY)))
     assert not cited

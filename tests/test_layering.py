@@ -17,6 +17,7 @@ PACKAGE = Path(presag_opt.__file__).parent
 LAYERS = {
     "errors": 0,
     "speed": 1,
+    "style": 1,
     "system": 2,
     "static": 3,
     "elasticity": 4,
@@ -26,7 +27,8 @@ LAYERS = {
     "studies": 6,
     "validation": 7,
     "plotting": 8,
-    "cli": 9,
+    "report": 9,
+    "cli": 10,
 }
 """Layer of each part of the package (its first component below ``presag_opt``): a part may import
 only parts of lower layers, and parts of one layer (design and dynamics; robust and studies) not each other."""

@@ -12,7 +12,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from presag_opt.cli import common, dynamics, presag, robust, static, studies, validation
+from presag_opt.cli import common, dynamics, presag, report, robust, static, studies, validation
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -41,7 +41,7 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
-COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation]
+COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation, report]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

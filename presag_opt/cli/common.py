@@ -7,7 +7,8 @@ Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMA
 - :func:`add_run_options` adds ``--quiet``, ``--progress`` and ``--no-cache`` to a sub-command;
 - :func:`progress` gives the one progress display (tqdm on standard error) for long work;
 - :func:`band` and :func:`float_list` parse ``LOW:HIGH`` bands and ``A,B,C`` lists;
-- :func:`output_path` checks a ``--plot`` file before any work starts;
+- :func:`output_path` checks a ``--plot`` file before any work starts, :func:`output_folder` an
+  output folder (``presag report --out``);
 - :func:`form_find_for` form-finds, saying beforehand when it will take long;
 - :func:`model_help` is the help line of a model argument, listing the built-in models;
 - :func:`print_warnings` prints the one-line warnings of a result.
@@ -267,6 +268,29 @@ def output_path(text: str, option: str = "--plot") -> Path:
             pass
     except OSError as exc:
         raise ModelError(f"{option} {text}: cannot write into {folder} ({exc.strerror or exc})") from None
+    return path
+
+
+def output_folder(text: str, option: str = "--out") -> Path:
+    """Check an output folder before the work starts: an existing folder, or a new one in an existing
+    folder; it must accept a new file (tried, not guessed). Return its path (created if missing).
+
+    Raises
+    ------
+    ModelError
+        If the path is a file, its parent folder is missing, or the folder is not writable.
+    """
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise ModelError(f"{option} {text}: is a file; give a folder")
+    if not path.exists() and not path.parent.is_dir():
+        raise ModelError(f"{option} {text}: the folder {path.parent} does not exist")
+    try:
+        path.mkdir(exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".presag-probe-"):
+            pass
+    except OSError as exc:
+        raise ModelError(f"{option} {text}: cannot write into it ({exc.strerror or exc})") from None
     return path
 
 

@@ -49,7 +49,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_json_flag(p)
     p.set_defaults(handler=empirical_command)
 
-    case = CASE_STUDY_BAND
     p = subparsers.add_parser(
         "recommend",
         help="recommend a pre-sag for an operating band (default: the paper's case study)",
@@ -61,16 +60,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--models", metavar="MODEL[,MODEL]", default=",".join(CASE_STUDY_MODELS),
         help="a list of " + model_help("catenaries", ",".join(CASE_STUDY_MODELS)),
     )
-    p.add_argument(
-        "--static-force", metavar="N:N", type=band, default=(case.static_force_low, case.static_force_high),
-        help="static contact force band LOW:HIGH in N, or one value (default 70:140)",
-    )
-    p.add_argument("--min-speed", metavar="KMH", type=positive_float, default=case.speed_low / KMH, help="lowest speed in km/h (default 0)")
-    p.add_argument("--max-speed", metavar="KMH", type=positive_float, default=case.speed_high / KMH, help="highest speed in km/h (default 90)")
-    p.add_argument(
-        "--aero", metavar="N/(KMH)^2", type=positive_float, default=case.aero_coefficient * KMH**2,
-        help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
-    )
+    add_band_options(p)
     p.add_argument("--method", metavar="{mid-mast,delta-e}", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
     p.add_argument("--force-levels", metavar="N,N,...", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
     p.add_argument("--step", metavar="M", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
@@ -89,6 +79,24 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="with --compare-paper: save the Fig. 5b study; the suffix sets the format")
     add_json_flag(p)
     p.set_defaults(handler=recommend_command)
+
+
+def add_band_options(parser: argparse.ArgumentParser) -> None:
+    """``--static-force``, ``--min-speed``, ``--max-speed`` and ``--aero``: the operating band, by default
+    the case study's (read back with :func:`operating_band`)."""
+    case = CASE_STUDY_BAND
+    parser.add_argument(
+        "--static-force", metavar="N:N", type=band, default=(case.static_force_low, case.static_force_high),
+        help="static contact force band LOW:HIGH in N, or one value (default 70:140)",
+    )
+    parser.add_argument("--min-speed", metavar="KMH", type=positive_float, default=case.speed_low / KMH,
+                        help="lowest speed in km/h (default 0)")
+    parser.add_argument("--max-speed", metavar="KMH", type=positive_float, default=case.speed_high / KMH,
+                        help="highest speed in km/h (default 90)")
+    parser.add_argument(
+        "--aero", metavar="N/(KMH)^2", type=positive_float, default=case.aero_coefficient * KMH**2,
+        help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
+    )
 
 
 def parse_tension(text: str) -> tuple[float, float]:

@@ -4,7 +4,8 @@ Modules: :mod:`~presag_opt.design.empirical` (eq. 1–3), :mod:`~presag_opt.desi
 band, eq. 4, force levels), :mod:`~presag_opt.design.quasi_static` (eq. 2 and 5 on one curve,
 interpolation between force levels), :mod:`~presag_opt.design.section` (ideal and mixed sections),
 :mod:`~presag_opt.design.validity` (speed ratio, steady-arm uplift) and
-:mod:`~presag_opt.design.recommendation` (the case study). The names below are the public API.
+:mod:`~presag_opt.design.recommendation` (the case study); :mod:`~presag_opt.design.layouts` (mixed
+against ideal spans, curved track) is used from its module. The names below are the public API.
 """
 
 from presag_opt.design.band import (

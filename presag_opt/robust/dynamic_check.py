@@ -120,7 +120,7 @@ def dynamic_check(
     reference_span : float
         Span the pre-sag is quoted on. [m]
     settings : SimulationSettings, optional
-        Numerical settings of the simulator.
+        Numerical settings of the simulator; each design is form-found with its ``static`` settings.
     progress : callable, optional
         Called with a short message before each run.
     """
@@ -129,7 +129,7 @@ def dynamic_check(
 
     runs = []
     for label, presag_rel in designs.items():
-        state = form_find(catenary.with_presag(presag_rel))
+        state = form_find(catenary.with_presag(presag_rel), settings.static if settings is not None else None)
         for force in static_forces:
             for speed in speeds:
                 if progress:

@@ -20,6 +20,7 @@ from presag_opt.robust.lp import RobustDesign, evaluate_design, robust_presag
 from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 from presag_opt.robust.tolerance import ToleranceBand, tolerance_band
+from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 
 
@@ -101,6 +102,7 @@ def robust_study(
     within: float = 0.10,
     scenarios: ForceScenarios | None = None,
     relinearise: bool = True,
+    settings: StaticSettings | None = None,
     progress=None,
 ) -> RobustStudy:
     """Design the pre-sag of a section for a band of mean contact forces.
@@ -126,6 +128,8 @@ def robust_study(
         Defaults to 17 equally likely forces over the band.
     relinearise : bool
         Recompute geometry and elasticity at the first robust pre-sag.
+    settings : StaticSettings, optional
+        Numerical settings of the static model (default: 0.5 m elements).
     progress : callable, optional
         Called with a short message before each expensive step.
     """
@@ -139,7 +143,7 @@ def robust_study(
     def path_at(cat):
         if progress:
             progress(f"{cat.name}: form-finding at S_rel = {cat.presag_rel * 1e3:.3f} ‰")
-        state = form_find(cat)
+        state = form_find(cat, settings)
         if progress:
             progress(f"{cat.name}: elasticity at {', '.join(f'{f:g}' for f in levels)} N")
         return build_path_model(state, section_elasticity(state, force_levels=levels, elasticity_method="active-set"))

@@ -9,15 +9,13 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from presag_opt.errors import ModelError  # noqa: E402
-from presag_opt.studies.validity import ValidityResult  # noqa: E402
+from presag_opt.errors import ModelError
+from presag_opt.studies.validity import ValidityResult
+from presag_opt.style import legend_outside, new_figure, save_figure
 
 MM = 1e3
 """Metres to millimetres, for axes. [mm/m]"""
@@ -57,27 +55,14 @@ def save_validity_plots(dataset: xr.Dataset, result: ValidityResult, folder: str
     ]
 
 
-LEGEND_WIDTH = 2.8
-"""Width kept free for a figure legend right of the axes. [inch]"""
-
-
 def _grid(count: int) -> tuple[plt.Figure, np.ndarray]:
     """Panels in rows of up to four, with room for a legend right of them."""
     cols = min(count, 4)
     rows = math.ceil(count / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols + LEGEND_WIDTH, 3.0 * rows), squeeze=False,
-                             sharey=True)
+    fig, axes = new_figure(rows, cols, width=3.6 * cols, height=3.0 * rows, legend=True, squeeze=False, sharey=True)
     for ax in axes.flat[count:]:
         ax.set_visible(False)
     return fig, axes
-
-
-def _legend_right(fig: plt.Figure, ax: plt.Axes, title: str | None = None) -> None:
-    """A figure legend in the free strip right of the axes, never over data."""
-    room = LEGEND_WIDTH / fig.get_figwidth()
-    handles, labels = ax.get_legend_handles_labels()
-    fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0 - room, 0.5), title=title)
-    fig.tight_layout(rect=(0, 0, 1.0 - room, 1))
 
 
 def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
@@ -94,11 +79,10 @@ def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
                 ax.plot(o.ratio.location, o.ratio.value, "kx", ms=7)
         ax.set_title(f"S = {s * MM:g} mm")
         ax.set_xlabel("F_m [N]")
-        ax.grid(True, alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("σ / F_m [-]")
-    _legend_right(fig, axes.flat[0], title="× distinct minimum")
-    return _save(fig, path)
+    legend_outside(fig, axes.flat[0], title="× distinct minimum")
+    return save_figure(fig, path)
 
 
 def _fig7(result: ValidityResult, path: Path) -> Path:
@@ -115,15 +99,14 @@ def _fig7(result: ValidityResult, path: Path) -> Path:
         ax.plot(fm, [b.presag_mid_mast * MM for b in verdict.bands], "k:", label="mid/mast rule")
         ax.set_title(f"β = {verdict.beta:.2f} ({'holds' if verdict.holds else 'fails'})")
         ax.set_xlabel("F_m [N]")
-        ax.grid(True, alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel("pre-sag S [mm]")
-    _legend_right(fig, axes.flat[0])
-    return _save(fig, path)
+    legend_outside(fig, axes.flat[0])
+    return save_figure(fig, path)
 
 
 def _fig8(result: ValidityResult, path: Path) -> Path:
-    fig, axes = plt.subplots(1, 2, figsize=(8 + LEGEND_WIDTH, 4.2), sharey=True)
+    fig, axes = new_figure(1, 2, width=8.0, height=4.2, legend=True, sharey=True)
     presags = sorted({o.presag for o in result.force_optima})
     for s in presags:
         points = [o for o in result.force_optima if o.presag == s]
@@ -135,14 +118,13 @@ def _fig8(result: ValidityResult, path: Path) -> Path:
     axes[1].set_title("(b) minima of σ / F_m")
     for ax in axes:
         ax.set_xlabel("β = v / c_CW [-]")
-        ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("optimal F_m [N]")
-    _legend_right(fig, axes[0])
-    return _save(fig, path)
+    legend_outside(fig, axes[0])
+    return save_figure(fig, path)
 
 
 def _uplift(ds: xr.Dataset, path: Path) -> Path:
-    fig, ax = plt.subplots(figsize=(8, 4.2))
+    fig, ax = new_figure(width=7.0, height=4.2, legend=True)
     betas = ds["beta"].isel(presag=0).values
     order = np.argsort(betas)
     for i, s in enumerate(ds["presag"].values):
@@ -152,13 +134,8 @@ def _uplift(ds: xr.Dataset, path: Path) -> Path:
     ax.axhline(limit * MM, color="r", ls="--", label=f"limit {limit * MM:g} mm")
     ax.set_xlabel("β = v / c_CW [-]")
     ax.set_ylabel("max steady-arm uplift over F_stat [mm]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.tight_layout()
-    return _save(fig, path)
-
-
-def _save(fig: plt.Figure, path: Path) -> Path:
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    kmh_per_beta = float(ds["speed"].values[0] / betas[0]) * 3.6
+    top = ax.secondary_xaxis("top", functions=(lambda b: b * kmh_per_beta, lambda v: v / kmh_per_beta))
+    top.set_xlabel("train speed v [km/h]")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)

@@ -335,3 +335,64 @@ def _parse_presag(entry: Any, layout: SpanLayout, provenance: dict[str, Provenan
     spec = {"dimension": "ratio", "display": "‰", "factor": 1e-3, "low": 0.0, "high": 5.0,
             "low_open": False, "high_open": False, "allow_none": False}
     return parse_quantity(entry, spec, "geometry.presag", provenance)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class ModelEntry:
+    """One number of a model file as written there, with its provenance.
+
+    Attributes
+    ----------
+    file : str
+        File name.
+    key : str
+        Dotted key, e.g. ``contact_wire.tension`` or ``stages.frame.mass``.
+    value : float or tuple of float
+        The value as written (in ``unit``, not converted).
+    unit : str
+        Unit as written.
+    source : str
+        ``paper``, ``standard``, ``secondary-source`` or ``assumed``.
+    note : str
+        Where the number comes from, or why it was chosen.
+    """
+
+    file: str
+    key: str
+    value: float | tuple[float, ...]
+    unit: str
+    source: str
+    note: str = ""
+
+
+def model_entries(name_or_path: str | Path, kind: str = "catenaries") -> tuple[ModelEntry, ...]:
+    """Every ``{value, unit, source, note}`` number of a model file, in file order, as written.
+
+    Text settings (names, support types) are left out. The file is only read, not validated: load
+    it with its loader for that.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        File path, or the name of a built-in model of that kind.
+    kind : str
+        ``catenaries``, ``pantographs``, ``cases`` or ``studies``.
+    """
+    path = resolve_model_path(name_or_path, kind)
+    out: list[ModelEntry] = []
+
+    def walk(node: Any, key: str) -> None:
+        if isinstance(node, Mapping) and "value" in node and "unit" in node:
+            value = node["value"]
+            out.append(ModelEntry(file=path.name, key=key, value=tuple(value) if isinstance(value, list) else value,
+                                  unit=str(node["unit"]), source=str(node.get("source", "")),
+                                  note=str(node.get("note", ""))))
+        elif isinstance(node, Mapping):
+            for name, child in node.items():
+                walk(child, f"{key}.{name}" if key else str(name))
+        elif isinstance(node, list) and all(isinstance(item, Mapping) for item in node):
+            for i, child in enumerate(node):
+                walk(child, f"{key}.{child['name']}" if isinstance(child.get("name"), str) else f"{key}[{i}]")
+
+    walk(read_toml(path), "")
+    return tuple(out)

@@ -4,7 +4,8 @@ Modules: :mod:`~presag_opt.validation.paper` (Table 1, Table 2, the recommendati
 printed), :mod:`~presag_opt.validation.single_curve` (the Fig. 5b study),
 :mod:`~presag_opt.validation.comparison` (our numbers beside the paper's) and
 :mod:`~presag_opt.validation.en50318` (reference ranges of the EN 50318 case, a verdict per
-statistic). The names below are the public API.
+statistic); :mod:`~presag_opt.validation.dynamic_model` (the simulator against crawling speed, a moving
+force on a string and convergence) is used from its module. The names below are the public API.
 """
 
 from presag_opt.validation.comparison import (

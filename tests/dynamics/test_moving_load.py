@@ -2,8 +2,9 @@
 
 The reference is independent of the catenary code: the closed-form modal solution of an undamped
 string with fixed ends under a constant force P moving at speed v (Frýba, *Vibration of Solids and
-Structures under Moving Loads*, chapter on the string), implemented here; the numerical model is a
-lumped-mass string assembled in ``conftest.build_string`` and stepped by
+Structures under Moving Loads*, chapter on the string), in
+:func:`presag_opt.validation.dynamic_model.string_under_moving_force`; the numerical model is a
+lumped-mass string (:func:`~presag_opt.validation.dynamic_model.lumped_string`) stepped by
 :func:`presag_opt.dynamics.integrator.integrate` (Newmark average acceleration, no damping).
 """
 
@@ -11,16 +12,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.integrator import IntegratorSettings, integrate
+from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
 from presag_opt.dynamics.simulate import SimulationSettings, simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import lone_wire_state
 from presag_opt.system.catenary import Damping, Wire
+from presag_opt.validation.dynamic_model import moving_force_on_string
+from presag_opt.validation.dynamic_model import string_under_moving_force as series
 
 TENSION = 10e3
 """[N]"""
@@ -35,82 +37,17 @@ STATIC_MID = FORCE * LENGTH / (4.0 * TENSION)
 """Static deflection of the mid-point with the force there, P l / (4 T): the error scale. [m]"""
 
 
-def string_under_moving_force(x: float | np.ndarray, t: np.ndarray, speed: float, terms: int = 4000) -> np.ndarray:
-    """Deflection w(x, t) of a fixed-fixed string under a constant force entering at x = 0 at t = 0.
-
-    Modal solution with sin(jπx/l), ω_j = jπc/l, Ω_j = jπv/l and zero initial conditions,
-    q_j = 2P / (ρ l (ω_j² − Ω_j²)) · (sin Ω_j t − (Ω_j/ω_j) sin ω_j t), valid while the force is on
-    the string (0 ≤ vt ≤ l). The sum of the sin Ω_j t parts is the static deflection line under the
-    force divided by (1 − β²), taken here in closed form so that only the free-vibration part is
-    summed as a series (its terms fall as 1/j²).
-
-    Parameters
-    ----------
-    x : float or ndarray
-        Station of the observed point, or one station per time (e.g. under the force, x = v t). [m]
-    t : ndarray
-        Times. [s]
-    speed : float
-        Speed of the force, below the wave speed. [m/s]
-    terms : int
-        Modes summed in the free-vibration part.
-
-    Returns
-    -------
-    ndarray
-        Deflection in the direction of the force. [m]
-
-    References
-    ----------
-    L. Frýba, *Vibration of Solids and Structures under Moving Loads*, 3rd ed., Thomas Telford
-    (1999), the chapter on the string (moving constant force, undamped case).
-    """
-    beta = speed / WAVE_SPEED
-    a = speed * np.asarray(t)
-    static = np.where(x <= a, FORCE * x * (LENGTH - a), FORCE * a * (LENGTH - x)) / (TENSION * LENGTH)
-    j = np.arange(1, terms + 1)[:, None]
-    omega = j * np.pi * WAVE_SPEED / LENGTH
-    amplitude = 2.0 * FORCE * beta / (MASS_PER_LENGTH * LENGTH * omega**2 * (1.0 - beta**2))
-    shape = np.sin(j * np.pi * np.asarray(x, dtype=float)[None, ...] / LENGTH)
-    free = (amplitude * np.sin(omega * a[None, :] / speed) * shape).sum(axis=0)
-    return static / (1.0 - beta**2) - free
+def string_under_moving_force(x, t, speed):
+    """The package's modal series for this module's string and force."""
+    return series(x, t, speed=speed, tension=TENSION, mass_per_length=MASS_PER_LENGTH, length=LENGTH, force=FORCE)
 
 
-def _errors(build_string, beta: float, element_length: float, time_step: float) -> tuple[float, float]:
+def _errors(beta: float, element_length: float, time_step: float) -> tuple[float, float]:
     """Largest and RMS mid-point error over the passage, relative to STATIC_MID."""
-    string = build_string(
-        tension=TENSION, mass_per_length=MASS_PER_LENGTH, length=LENGTH, element_length=element_length
-    )
-    speed = beta * WAVE_SPEED
-    n, h = len(string.x), string.element_length
-
-    def force(t: float) -> np.ndarray:
-        # The force shared between the two nodes of its element by the linear shape functions
-        # (the fixed ends, nodes 0 and n + 1, are not degrees of freedom).
-        out = np.zeros(n)
-        a = speed * t
-        if 0.0 < a < LENGTH:
-            k = int(a // h)
-            r = a / h - k
-            if k >= 1:
-                out[k - 1] += FORCE * (1.0 - r)
-            if k < n:
-                out[k] += FORCE * r
-        return out
-
-    mid = n // 2
-    assert string.x[mid] == pytest.approx(LENGTH / 2, abs=1e-12)  # an even element count: a node there
-    result = integrate(
-        string.mass,
-        sp.csr_matrix((n, n)),
-        string.stiffness,
-        duration=LENGTH / speed,
-        settings=IntegratorSettings(time_step=time_step, scheme="newmark"),
-        external_force=force,
-        record_dofs=[mid],
-    )
-    error = result.displacement[:, 0] - string_under_moving_force(string.x[mid], result.time, speed)
-    return float(np.abs(error).max() / STATIC_MID), float(np.sqrt(np.mean(error**2)) / STATIC_MID)
+    check = moving_force_on_string(beta, element_length=element_length, time_step=time_step, tension=TENSION,
+                                   mass_per_length=MASS_PER_LENGTH, length=LENGTH, force=FORCE)
+    assert check.static_mid == pytest.approx(STATIC_MID, rel=1e-15)
+    return check.max_error, check.rms_error
 
 
 def test_series_reduces_to_the_static_deflection_at_crawling_speed():
@@ -131,7 +68,7 @@ def test_series_reduces_to_the_static_deflection_at_crawling_speed():
     # changes the error by far more (the β = 0.6 deflection is 1/(1 − β²) = 1.56 × static).
     [(0.2, 0.010, 0.002), (0.4, 0.014, 0.003), (0.6, 0.025, 0.005)],
 )
-def test_newmark_follows_the_modal_series(tensioned_string, beta, max_tol, rms_tol):
+def test_newmark_follows_the_modal_series(beta, max_tol, rms_tol):
     """Mid-point deflection while the force crosses the string, at β = 0.2, 0.4 and 0.6.
 
     The error falls at first order in the element length (halving element and step: RMS error
@@ -140,8 +77,8 @@ def test_newmark_follows_the_modal_series(tensioned_string, beta, max_tol, rms_t
     which the dispersive lumped-mass string smears over a few elements. The time step is not the
     limit (a 4 × smaller step moves the error by less than a fifth, measured).
     """
-    coarse_max, coarse_rms = _errors(tensioned_string, beta, 0.5, 2e-3)
-    fine_max, fine_rms = _errors(tensioned_string, beta, 0.25, 1e-3)
+    coarse_max, coarse_rms = _errors(beta, 0.5, 2e-3)
+    fine_max, fine_rms = _errors(beta, 0.25, 1e-3)
     assert fine_max < max_tol and fine_rms < rms_tol
     # First-order convergence (ratio 2); 1.3 leaves room for the β = 0.4 case's measured 1.5.
     assert coarse_rms / fine_rms > 1.3

@@ -9,6 +9,7 @@ import pytest
 
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
 from presag_opt.speed import doppler_factor, speed_ratio, wave_speed
+from presag_opt.validation.dynamic_model import lumped_string
 from presag_opt.errors import ModelError
 
 TENSION = 20e3  # N, EN 50318-style contact wire
@@ -23,14 +24,14 @@ def _peak_position(x: np.ndarray, u: np.ndarray) -> float:
     return float(x[i] + shift * (x[1] - x[0]))
 
 
-def test_pulse_travels_at_sqrt_tension_over_mass(tensioned_string):
+def test_pulse_travels_at_sqrt_tension_over_mass():
     """A Gaussian pulse splits in two halves that travel at c = sqrt(T/ρ) = 121.7 m/s.
 
     Tolerance 2 %: the lumped string's phase speed is c·sin(kh/2)/(kh/2), 0.1 % below c for the
     pulse's wavenumbers (σ = 1.5 m, h = 0.25 m), and Newmark's period elongation at ω·Δt < 0.1 is
     below 0.1 %; the peak is located to a small fraction of an element.
     """
-    string = tensioned_string(tension=TENSION, mass_per_length=MASS_PER_LENGTH, length=200.0, element_length=0.25)
+    string = lumped_string(tension=TENSION, mass_per_length=MASS_PER_LENGTH, length=200.0, element_length=0.25)
     start = 100.0
     pulse = 0.01 * np.exp(-0.5 * ((string.x - start) / 1.5) ** 2)
     times = (0.2, 0.6)

@@ -1,0 +1,196 @@
+"""A design report as one self-contained HTML file: tables, and figures embedded as PNG.
+
+:func:`write_report` writes ``index.html`` into a folder; nothing else is needed to open it (no
+scripts, no files beside it, no network). The figures are the package's own
+(:mod:`presag_opt.plotting`, :mod:`presag_opt.studies.plots`), in the one style of the command line
+and the notebooks.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+import tempfile
+from pathlib import Path
+
+from presag_opt.design.band import KMH
+from presag_opt.plotting import plot_elasticity, plot_presag_against_force, plot_waviness
+from presag_opt.report.content import DesignReport
+from presag_opt.studies.plots import save_validity_plots
+
+CSS = """
+body { font-family: system-ui, sans-serif; max-width: 62rem; margin: 2rem auto; padding: 0 1rem; color: #222; }
+h1 { font-size: 1.5rem; } h2 { font-size: 1.2rem; margin-top: 2rem; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: 0.5rem 0; font-size: 0.9rem; }
+th, td { border: 1px solid #ddd; padding: 0.2rem 0.5rem; text-align: left; vertical-align: top; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+figure { margin: 1rem 0; } figure img { max-width: 100%; height: auto; }
+figcaption { font-size: 0.85rem; color: #555; }
+.summary { background: #f3f7fb; border: 1px solid #c9d9ea; padding: 0.5rem 1rem; }
+.warn { background: #fff4e0; border: 1px solid #e8b86d; padding: 0.5rem 1rem; }
+.assumed { color: #8a4b00; }
+"""
+
+
+def write_report(report: DesignReport, folder: str | Path) -> Path:
+    """Write ``index.html`` for a report into ``folder`` (created if missing); return its path.
+
+    Parameters
+    ----------
+    report : DesignReport
+        The computed report.
+    folder : str or Path
+        Output folder.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="presag-report-") as tmp:
+        figures = _figures(report, Path(tmp))
+        page = _page(report, figures)
+    path = folder / "index.html"
+    path.write_text(page, encoding="utf-8")
+    return path
+
+
+def _figures(report: DesignReport, tmp: Path) -> dict[str, str]:
+    """Every figure of the report as a data URL, by its id."""
+    rec = report.recommendation
+    paths = {"fig-presag": plot_presag_against_force(rec, tmp / "presag.png"),
+             "fig-waviness": plot_waviness(report.robust, tmp / "waviness.png")}
+    for i, lay in enumerate(rec.layouts):
+        study = lay.section.studies[len(lay.section.studies) // 2]
+        paths[f"fig-elasticity-{i}"] = plot_elasticity(study, tmp / f"elasticity_{i}.png")
+    validity = save_validity_plots(report.validity.dataset, report.validity.result, tmp / "validity")
+    by_name = {p.name: p for p in validity}
+    paths["fig-validity"] = by_name["fig7_presag.png"]
+    paths["fig-uplift"] = by_name["uplift.png"]
+    return {key: "data:image/png;base64," + base64.b64encode(p.read_bytes()).decode("ascii") for key, p in paths.items()}
+
+
+def _e(text: object) -> str:
+    return html.escape(str(text))
+
+
+def _table(headers: list[str], rows: list[list[object]], numeric: set[int] = frozenset()) -> str:
+    head = "".join(f"<th>{_e(h)}</th>" for h in headers)
+    body = "".join(
+        "<tr>" + "".join(f'<td class="num">{_e(c)}</td>' if i in numeric else f"<td>{_e(c)}</td>"
+                         for i, c in enumerate(row)) + "</tr>"
+        for row in rows
+    )
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def _figure(figures: dict[str, str], key: str, caption: str) -> str:
+    return (f'<figure id="{key}"><img class="report-figure" src="{figures[key]}" alt="{_e(caption)}">'
+            f"<figcaption>{_e(caption)}</figcaption></figure>")
+
+
+def _kmh(speed: float | None) -> str:
+    return "–" if speed is None or not math.isfinite(speed) else f"{speed / KMH:.0f} km/h"
+
+
+def _page(report: DesignReport, figures: dict[str, str]) -> str:
+    rec, robust, validity, band = report.recommendation, report.robust, report.validity, report.band
+    l_ref = robust.reference_span
+    tol = robust.tolerance
+    low, high = rec.mean_force_band
+    recommended_mm = rec.presag_rel * l_ref * 1e3
+    inside = tol.low <= rec.presag_rel <= tol.high
+    res = validity.result
+    limit_text = validity.text()
+    top = band.speed_high
+    uplift_band = validity.uplift_up_to(top)
+    limit = float(validity.dataset.attrs["uplift_limit"])
+    parts = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Pre-sag design report</title>"
+             f"<style>{CSS}</style></head><body>"]
+    parts.append(f"<h1>Pre-sag design report: {_e(', '.join(lay.catenary_name for lay in rec.layouts))}</h1>")
+    for note in validity.warnings:
+        parts.append(f"<p class='warn'>Note: {_e(note)}.</p>")
+    if report.quick:
+        parts.append("<p class='warn'>Draft (<code>--quick</code>): coarse numerics (1 m elements, 4 ms, a 2 × 2 × 2 "
+                     "sweep). Run the report without <code>--quick</code> for numbers to quote.</p>")
+    parts.append(
+        "<div class='summary' id='summary'><p><b>Recommended pre-sag</b>: S_rel = "
+        f"{rec.presag_rel * 1e3:.2f} ‰, that is {recommended_mm:.0f} mm on a {l_ref:g} m span (each span: S_rel × its "
+        f"length).</p><p><b>Installation tolerance</b> (worst-case waviness within {tol.within * 100:g} % of the "
+        f"robust optimum): {tol.low * l_ref * 1e3:.0f}–{tol.high * l_ref * 1e3:.0f} mm on {l_ref:g} m; the "
+        f"recommendation lies {'inside' if inside else 'OUTSIDE'} it.</p>"
+        f"<p><b>Validity of the quasi-static rule</b>: {_e(limit_text)} (the paper's β = 0.4 is "
+        f"{_kmh(validity.paper_limit_speed)} here); the band reaches {_kmh(top)}.</p>"
+        f"<p><b>Steady-arm uplift</b> (dynamic, up to {_kmh(top)}): "
+        + ("no run at these speeds" if not math.isfinite(uplift_band) else
+           f"{uplift_band * 1e3:.1f} mm, {'within' if uplift_band <= limit else 'ABOVE'} the limit {limit * 1e3:g} mm")
+        + ".</p></div>")
+    parts.append("<h2>Operating band</h2>" + _table(
+        ["static force F_stat", "speed", "α_ae", "mean contact force F_m"],
+        [[f"{band.static_force_low:g}–{band.static_force_high:g} N",
+          f"{band.speed_low / KMH:g}–{band.speed_high / KMH:g} km/h", f"{band.aero_coefficient * KMH**2:g} N/(km/h)²",
+          f"{low:.1f}–{high:.1f} N"]]))
+    parts.append("<h2 id='recommendation'>Recommended pre-sag</h2><p>Quasi-static rule S = F_m·Δe over the F_m band, "
+                 "per layout; the recommendation is the mean of the range ends.</p>" + _table(
+        ["layout", "system", "spans sized", "S_rel [‰]", f"S on {l_ref:g} m [mm]", "β at top speed [-]"],
+        [[lay.layout_kind, lay.catenary_name, len(lay.section.spans),
+          f"{lay.presag_rel_range[0] * 1e3:.2f}–{lay.presag_rel_range[1] * 1e3:.2f}",
+          f"{lay.presag_rel_range[0] * l_ref * 1e3:.0f}–{lay.presag_rel_range[1] * l_ref * 1e3:.0f}",
+          f"{lay.speed.beta_max:.2f}"] for lay in rec.layouts], {2, 5}))
+    parts.append(_figure(figures, "fig-presag", "Quasi-static pre-sag against the mean contact force, both variants "
+                                                "of the rule, every layout; the operating band shaded."))
+    weights = robust.scenarios.weights
+    parts.append("<h2 id='robust'>Robust design and tolerance band</h2><p>The pre-sag that minimises the worst "
+                 "waviness of the quasi-static pantograph path over the F_m band (minimax), beside the Δe rule at "
+                 f"the band centre; {_e(robust.catenary_name)}.</p>" + _table(
+        ["design", f"S on {l_ref:g} m [mm]", "S_rel [‰]", "worst R [mm]", "mean R [mm]"],
+        [[name, f"{d.presag_rel * l_ref * 1e3:.1f}", f"{d.presag_rel * 1e3:.3f}", f"{d.worst_case_waviness * 1e3:.1f}",
+          f"{d.mean_waviness(weights) * 1e3:.1f}"]
+         for name, d in (("robust (minimax)", robust.robust_parabola), ("nominal Δe at band centre", robust.nominal))],
+        {1, 2, 3, 4}))
+    parts.append(_figure(figures, "fig-waviness", "Path waviness R against the parabolic pre-sag: worst case over the "
+                                                  "band, single forces, the tolerance band shaded."))
+    parts.append("<h2 id='elasticity'>Elasticity</h2>" + _table(
+        ["layout", "F_m [N]", "e_mid [mm/N]", "e at supports [mm/N]", "Δe [mm/N]"],
+        [[lay.layout_kind, f"{f:.0f}", f"{_mean(c.e_mid for c in curves):.3f}",
+          f"{_mean(0.5 * (c.elasticity[0] + c.elasticity[-1]) for c in curves):.3f}",
+          f"{_mean(c.delta_e for c in curves):.3f}"]
+         for lay in rec.layouts for f in (low, high) for curves in [lay.section.curves_at(f)]], {1, 2, 3, 4}))
+    for i, lay in enumerate(rec.layouts):
+        parts.append(_figure(figures, f"fig-elasticity-{i}", f"Elasticity along a sized span of the {lay.layout_kind} "
+                                                             "layout at the computed force levels."))
+    parts.append("<h2 id='validity'>Validity range in speed</h2>"
+                 f"<p>Source: {_e(validity.source)}.</p><p>{_e(limit_text)}. Criterion: {_e(res.criterion)}.</p>" + _table(
+        ["β [-]", "speed [km/h]", "Δe rule holds"],
+        [[f"{v.beta:.3f}", f"{v.speed / KMH:.0f}", "yes" if v.holds else "no"] for v in res.per_beta], {0, 1}))
+    parts.append(_figure(figures, "fig-validity", "Dynamically near-optimal pre-sag (σ within 5 % of its minimum) per "
+                                                  "speed ratio, beside the quasi-static rules."))
+    static_rows = [[f"static estimate F_m·e at the supports ({lay.layout_kind})", f"{high:.0f} N",
+                    f"{lay.steady_arm_uplift.uplift * 1e3:.1f}"] for lay in rec.layouts]
+    dynamic = [] if res.uplift is None else [[
+        "dynamic, largest of the study", f"{res.uplift.speed / KMH:.0f} km/h, F_stat {res.uplift.static_force:g} N",
+        f"{res.uplift.maximum * 1e3:.1f}"]]
+    if math.isfinite(uplift_band):
+        dynamic.append([f"dynamic, speeds up to {_kmh(top)}", "–", f"{uplift_band * 1e3:.1f}"])
+    parts.append(f"<h2 id='uplift'>Steady-arm uplift</h2><p>Limit {limit * 1e3:g} mm.</p>" + _table(
+        ["estimate", "where", "uplift [mm]"], static_rows + dynamic, {2}))
+    parts.append(_figure(figures, "fig-uplift", "Largest steady-arm uplift over the static forces against the speed "
+                                                "ratio, per pre-sag, and its limit."))
+    parts.append("<h2 id='inputs'>Inputs and their provenance</h2>" + _table(
+        ["file", "key", "value", "unit", "source", "note"],
+        [[e.file, e.key, _value(e.value), e.unit, e.source, e.note] for e in report.inputs]))
+    parts.append("<h2 id='assumed'>Every assumed value</h2><p>Model-file numbers tagged <i>assumed</i> (the paper's "
+                 "appendix was not available) and the report's own choices.</p>" + _table(
+        ["file", "key", "value", "unit", "note"],
+        [[e.file, e.key, _value(e.value), e.unit, e.note] for e in report.assumed_inputs]) + _table(
+        ["choice", "value", "why"], [[a.name, a.value, a.why] for a in report.assumptions]))
+    parts.append("<p><small>Generated by presag_opt. Method: Schick, Liu &amp; Stichel, Railway Sciences (2025), "
+                 "doi:10.1108/RS-05-2025-0016.</small></p></body></html>")
+    return "\n".join(parts)
+
+
+def _mean(values) -> float:
+    values = list(values)
+    return sum(values) / len(values) * 1e3
+
+
+def _value(value: object) -> str:
+    return ", ".join(f"{v:g}" for v in value) if isinstance(value, tuple) else f"{value:g}" if isinstance(value, (int, float)) else str(value)

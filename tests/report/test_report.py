@@ -1,0 +1,130 @@
+"""``presag report``: the content of the case-study report, the page in a real headless Chromium (no
+console errors, every figure loaded), and bad input refused before any work. One file, so that the
+report is written once per test run (pytest-xdist hands out whole files)."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from presag_opt.cli.common import output_folder
+from presag_opt.errors import ModelError
+from presag_opt.report.content import design_report
+from presag_opt.system.loader import model_entries
+
+
+def test_report_is_self_contained_and_has_every_section(case_study_report):
+    folder, summary = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert [p.name for p in folder.iterdir()] == ["index.html"]
+    for section in ("summary", "recommendation", "robust", "elasticity", "validity", "uplift", "inputs", "assumed"):
+        assert f"id='{section}'" in page, section
+    # no scripts, no files or addresses to fetch: every image is embedded
+    assert "<script" not in page
+    sources = re.findall(r'src="([^"]*)"', page)
+    assert len(sources) == 6 and all(s.startswith("data:image/png;base64,") for s in sources)
+    assert "Draft (<code>--quick</code>)" in page
+
+
+EXPECTED_FIGURES = {"fig-presag", "fig-waviness", "fig-elasticity-0", "fig-elasticity-1", "fig-validity", "fig-uplift"}
+"""Figure ids of the case-study report: Fig. 5a, waviness, elasticity of the ideal and the mixed layout,
+the validity range (Fig. 7) and the steady-arm uplift."""
+
+FIGURES = """JSON.stringify([...document.querySelectorAll('figure')].map(f => {
+  const img = f.querySelector('img');
+  return {id: f.id, complete: img !== null && img.complete, width: img ? img.naturalWidth : 0,
+          height: img ? img.naturalHeight : 0};
+}))"""
+
+
+def test_report_renders_without_console_errors_and_every_figure_loads(case_study_report, chromium, tmp_path):
+    folder, _ = case_study_report
+    for domain in ("Page", "Runtime", "Log"):
+        chromium.call(f"{domain}.enable", session=True)
+    chromium.call("Emulation.setDeviceMetricsOverride", session=True, width=1200, height=900, deviceScaleFactor=1,
+                  mobile=False)
+    chromium.call("Page.navigate", session=True, url=(folder / "index.html").as_uri())
+    chromium.wait_for("Page.loadEventFired")
+    figures = json.loads(chromium.call("Runtime.evaluate", session=True, expression=FIGURES,
+                                       returnByValue=True)["result"]["value"])
+    shot = chromium.call("Page.captureScreenshot", session=True, format="png", captureBeyondViewport=True)
+    (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))
+
+    errors = [e for e in chromium.events if
+              (e.get("method") == "Runtime.consoleAPICalled" and e["params"]["type"] in ("error", "assert"))
+              or e.get("method") == "Runtime.exceptionThrown"
+              or (e.get("method") == "Log.entryAdded" and e["params"]["entry"]["level"] == "error")]
+    assert not errors
+    assert {f["id"] for f in figures} == EXPECTED_FIGURES
+    assert all(f["complete"] and f["width"] > 0 and f["height"] > 0 for f in figures), figures
+    assert (tmp_path / "report.png").stat().st_size > 10_000  # a page was drawn, not an empty frame
+
+
+def test_report_states_the_numbers_of_its_summary(case_study_report):
+    folder, summary = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert f"S_rel = {summary['presag_rel_permille']:.2f} ‰" in page
+    low, high = summary["tolerance_mm"]
+    assert f"{low:.0f}–{high:.0f} mm on {summary['reference_span_m']:g} m" in page
+    # the recommendation lies inside its own tolerance band on the case study (55 mm in 51-58 mm, quick numerics)
+    assert low <= summary["presag_mm"] <= high
+    assert summary["quick"] is True and summary["validity_source"].startswith("reduced sweep")
+
+
+def test_report_lists_every_input_with_provenance_and_every_assumed_value(case_study_report):
+    folder, _ = case_study_report
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    inputs, assumed = page.split("id='inputs'")[1].split("id='assumed'")
+    entries = [*model_entries("st_9.8_ideal"), *model_entries("st_9.8_mixed"),
+               *model_entries("case_study_2mass_friction", "pantographs")]
+    for entry in entries:
+        assert f"<td>{entry.file}</td><td>{entry.key}</td>" in inputs, entry.key
+    for entry in (e for e in entries if e.source == "assumed"):
+        assert f"<td>{entry.file}</td><td>{entry.key}</td>" in assumed, entry.key
+    assert all(f"<td>{e.file}</td><td>{e.key}</td>" not in assumed for e in entries if e.source != "assumed")
+    assert "tolerance band loss" in assumed and "reduced validity sweep" in assumed
+
+
+@pytest.mark.parametrize(("name", "words"), [("file.txt", "--out file.txt: is a file"),
+                                             ("missing/report", "the folder missing does not exist")])
+def test_output_folder_is_checked_before_any_work(tmp_path, monkeypatch, name, words):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "file.txt").write_text("x")
+    with pytest.raises(ModelError, match=words):
+        output_folder(name)
+    assert output_folder("new") == Path("new") and (tmp_path / "new").is_dir()
+
+
+def test_a_missing_study_store_is_refused_before_any_work(tmp_path):
+    with pytest.raises(ModelError, match="no such study store"):
+        design_report(study=tmp_path / "nothere.nc")
+
+
+def test_bad_input_on_the_command_line_is_one_line(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", "no_such_model", "--out", "r"],
+                            capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    (line,) = result.stderr.strip().splitlines()
+    assert line.startswith("presag: error: ") and "neither a file nor a built-in catenary model" in line
+
+
+def test_a_stored_study_of_another_contact_wire_is_flagged():
+    """The validity speed is β*·c of the studied wire (c = v/β of its runs: here 100 m/s); a report for a
+    line whose wire is more than 1 % faster or slower says the speeds do not carry over."""
+    import xarray as xr
+
+    from presag_opt.report.content import ValidityRange
+
+    dataset = xr.Dataset({"beta": (("presag", "speed"), [[0.2, 0.4]])}, coords={"speed": [20.0, 40.0]},
+                         attrs={"study_name": "other wire"})
+    same = ValidityRange(source="stored", dataset=dataset, result=None, line_wave_speed=100.5)
+    other = ValidityRange(source="stored", dataset=dataset, result=None, line_wave_speed=80.0)
+    assert same.wave_speed == pytest.approx(100.0, rel=1e-12)
+    assert same.warnings == ()
+    assert "'other wire'" in other.warnings[0] and "do not carry over" in other.warnings[0]
