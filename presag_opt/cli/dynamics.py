@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import sys
 
 from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,

@@ -37,7 +37,6 @@ from presag_opt.static.kernels import backward_substitution
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
-    make_scratch,
     newton_step,
     nonlinear_forces,
 )
