@@ -140,3 +140,13 @@ def test_too_low_system_height_is_a_clear_model_error():
     cat = dataclasses.replace(cat, system_height=0.5)
     with pytest.raises(ModelError, match="dropper|messenger"):
         form_find(cat)
+
+
+def test_a_spring_support_holds_the_contact_wire_at_its_stagger():
+    """A spring support is vertical only: across the track the wire is held at its stagger there
+    (left free, the zig-zag pull of the staggered wire draws it to ±27 mm instead of ±200 mm)."""
+    catenary = dataclasses.replace(load_catenary("en50318_reference"), stagger=0.2)
+    state = form_find(catenary)
+    nodes = state.discretisation.mast_cw_node
+    np.testing.assert_allclose(state.positions[nodes, 1], state.discretisation.design_positions[nodes, 1], atol=1e-6)
+    assert np.all(np.abs(state.positions[nodes, 1]) == pytest.approx(0.2))
