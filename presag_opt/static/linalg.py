@@ -100,12 +100,13 @@ MANY_RIGHT_HAND_SIDES = 16
 """Right-hand sides from which :func:`_banded_cholesky_solve` beats LAPACK's column-by-column solve
 once its kernel is loaded (4× at 84 columns of the 31-span section). [-]"""
 
-FIRST_USE_WORK = 1.1e7
+FIRST_USE_WORK = 2e6
 """Rows × right-hand sides, summed over a process's many-column solves, from which the compiled
-solve pays for its first use (importing numba and loading the cached kernel, about 0.5 s): measured
-on the 10-span section (7 239 rows, bandwidth 20), LAPACK 0.49 ms and the kernel 0.16 ms per column,
-so about 1 550 columns there. One span's elasticity stays with LAPACK; the 29 spans of the mixed
-section switch to the kernel after their first few. [-]"""
+kernel is used (its first use costs about 0.5 s: importing numba and loading the cached kernel).
+Measured on the 10-span section (7 239 rows, bandwidth 20): LAPACK 0.49 ms and the kernel 0.16 ms per
+column. One span of an ideal section (7 239 × 121, its influence columns 7 239 × 90) stays with
+LAPACK; a long mixed section (about 21 000 rows × 121 columns a span) switches at its first span,
+since its 29 spans would pay for the kernel many times over. [-]"""
 
 _lapack_work = 0.0
 """Rows × right-hand sides solved so far in this process by LAPACK in many-column solves. [-]"""
