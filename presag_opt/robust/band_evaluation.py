@@ -1,9 +1,10 @@
 """A parabolic pre-sag simulated over an operating grid: one form-finding, one batch of runs.
 
-:class:`BandEvaluator` form-finds the catenary at a pre-sag (with the discretisation every speed of
+:func:`simulate_band` form-finds the catenary at a pre-sag (with the discretisation every speed of
 the grid needs, :func:`~presag_opt.robust.operating_grid.band_static_settings`) and runs all points
-of the grid in one :func:`~presag_opt.dynamics.batch.simulate_many` call; each pre-sag is simulated
-once and kept. A :class:`BandEvaluation` holds the EN 50367 statistics of every point and the
+of the grid in one :func:`~presag_opt.dynamics.batch.simulate_many` call. :class:`BandEvaluator`
+keeps every pre-sag it simulated and counts the runs; several pre-sags asked for at once run side
+by side in worker processes. A :class:`BandEvaluation` holds the EN 50367 statistics of every point and the
 filtered contact force inside each run's analysis window, from which the surrogate of
 :mod:`presag_opt.robust.surrogate` interpolates other pre-sags. A run that fails stops the search
 with its reason: a design is never chosen around a missing run.
@@ -11,8 +12,10 @@ with its reason: a design is never chosen around a missing run.
 
 from __future__ import annotations
 
+import multiprocessing
 import time as wallclock
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +27,7 @@ from presag_opt.dynamics.simulate import SimulationSettings
 from presag_opt.dynamics.statistics import lowpass_filter, window_mask
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
+from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
 from presag_opt.system.catenary import Catenary
 
@@ -93,6 +97,86 @@ class BandEvaluation:
     warnings: tuple[str, ...] = ()
 
 
+def simulate_band(
+    catenary: Catenary,
+    pantograph: Pantograph,
+    grid: OperatingGrid,
+    settings: SimulationSettings,
+    static_settings: StaticSettings,
+    presag_rel: float,
+    progress: Callable[[str], None] | None = None,
+) -> BandEvaluation:
+    """Form-find one parabolic pre-sag and run every point of the grid in one batch.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model (its pre-sag is replaced by ``presag_rel``).
+    pantograph : Pantograph
+        Pantograph model.
+    grid : OperatingGrid
+        The operating points (checked beforehand, see :meth:`OperatingGrid.check`).
+    settings : SimulationSettings
+        Numerical settings of the runs.
+    static_settings : StaticSettings
+        Settings of the form-finding (:func:`~presag_opt.robust.operating_grid.band_static_settings`).
+    presag_rel : float
+        Relative pre-sag S_rel. [-]
+    progress : callable, optional
+        Called with a short message before the form-finding and after each batch of runs.
+
+    Raises
+    ------
+    ModelError
+        The pre-sag is outside the model's range (0–5 ‰).
+    ConvergenceError
+        The form-finding or a run failed; the message names the pre-sag and the point.
+    """
+    started = wallclock.perf_counter()
+    label = f"S = {presag_rel * max(catenary.layout.span_lengths) * 1e3:.1f} mm"
+    shaped = catenary.with_presag(presag_rel)
+    if progress:
+        progress(f"{label}: form-finding")
+    try:
+        state = form_find(shaped, static_settings)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
+                               f"{str(exc).splitlines()[0]}", exc.stats) from None
+    points = grid.points()
+    done = [0]
+
+    def finished(count: int) -> None:
+        done[0] += count
+        if progress:
+            progress(f"{label}: {done[0]}/{len(points)} runs")
+
+    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True, progress=finished)
+    histories, loss = [], []
+    for run in batch.runs:
+        if not run.ok:
+            p = run.point
+            raise ConvergenceError(
+                f"dynamic robust pre-sag: the run at {label}, {p.speed / KMH:g} km/h, F_stat {p.static_force:g} N "
+                f"failed: {run.error}", {"presag_rel": presag_rel, "error": run.error})
+        stats = run.statistics[0]
+        filtered = lowpass_filter(run.time, run.contact_force[:, 0], cutoff=settings.cutoff_frequency)
+        histories.append(filtered[window_mask(run.time, stats.window_start, stats.window_end,
+                                              settings.cutoff_frequency)])
+        loss.append(stats.loss_of_contact)
+    return BandEvaluation(
+        statistics=BandStatistics(
+            presag_rel=presag_rel,
+            mean_force=np.array([np.mean(h) for h in histories]),
+            sigma=np.array([np.std(h) for h in histories]),
+            uplift_max=np.array([run.uplift_max for run in batch.runs]),
+        ),
+        histories=tuple(histories),
+        loss_of_contact=np.array(loss),
+        wall_time=wallclock.perf_counter() - started,
+        warnings=tuple(dict.fromkeys(w for run in batch.runs for w in run.warnings)),
+    )
+
+
 class BandEvaluator:
     """Simulates parabolic pre-sags over an operating grid, each pre-sag once.
 
@@ -106,6 +190,9 @@ class BandEvaluator:
         The operating points; checked against the catenary here, before any work.
     settings : SimulationSettings, optional
         Numerical settings; default automatic numerics (element length and time step from the speed).
+    workers : int
+        Processes that simulate pre-sags side by side when several are asked for at once
+        (:meth:`evaluate_many`); 1 simulates in this process. [-]
     progress : callable, optional
         Called with a short message before each form-finding and after each batch of runs.
 
@@ -124,14 +211,18 @@ class BandEvaluator:
         grid: OperatingGrid,
         *,
         settings: SimulationSettings | None = None,
+        workers: int = 1,
         progress: Callable[[str], None] | None = None,
     ):
+        if workers != int(workers) or not 1 <= workers <= 64:
+            raise ModelError(f"workers = {workers} is outside the valid range [1, 64]")
         self.catenary = catenary
         self.pantograph = pantograph
         self.grid = grid
         self.settings = settings or SimulationSettings(numerics="auto")
         grid.check(catenary, pantograph, self.settings)
         self.static_settings = band_static_settings(catenary, grid.speeds, self.settings)
+        self.workers = int(workers)
         self.progress = progress
         self.evaluations: dict[float, BandEvaluation] = {}
         self.runs_used = 0
@@ -142,67 +233,54 @@ class BandEvaluator:
         return float(max(self.catenary.layout.span_lengths))
 
     def __call__(self, presag_rel: float) -> BandEvaluation:
-        """Simulate one pre-sag over the grid (or return it if simulated before).
+        """Simulate one pre-sag over the grid (or return it if simulated before); see
+        :func:`simulate_band` for what it raises.
 
         Parameters
         ----------
         presag_rel : float
             Relative pre-sag S_rel. [-]
-
-        Raises
-        ------
-        ModelError
-            The pre-sag is outside the model's range (0–5 ‰).
-        ConvergenceError
-            The form-finding or a run failed; the message names the pre-sag and the point.
         """
-        presag_rel = float(presag_rel)
-        if presag_rel in self.evaluations:
-            return self.evaluations[presag_rel]
-        started = wallclock.perf_counter()
-        label = f"S = {presag_rel * self.reference_span * 1e3:.1f} mm"
-        catenary = self.catenary.with_presag(presag_rel)
-        if self.progress:
-            self.progress(f"{label}: form-finding")
-        try:
-            state = form_find(catenary, self.static_settings)
-        except ConvergenceError as exc:
-            raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
-                                   f"{str(exc).splitlines()[0]}", exc.stats) from None
-        points = self.grid.points()
-        done = [0]
+        return self.evaluate_many([presag_rel])[0]
 
-        def finished(count: int) -> None:
-            done[0] += count
+    def evaluate_many(self, presags) -> list[BandEvaluation]:
+        """Simulate several pre-sags (those not simulated before), side by side in up to
+        :attr:`workers` processes; see :func:`simulate_band` for what it raises.
+
+        Parameters
+        ----------
+        presags : sequence of float
+            Relative pre-sags S_rel. [-]
+
+        Returns
+        -------
+        list of BandEvaluation
+            One per pre-sag, in order.
+        """
+        presags = [float(s) for s in presags]
+        new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
+        common = (self.catenary, self.pantograph, self.grid, self.settings, self.static_settings)
+        if self.workers > 1 and len(new) > 1:
+            span = self.reference_span
+            count = min(self.workers, len(new))
             if self.progress:
-                self.progress(f"{label}: {done[0]}/{len(points)} runs")
+                self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
+            # spawn, not fork: the command line's progress display runs a thread
+            pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+            try:
+                futures = [pool.submit(simulate_band, *common, s) for s in new]
+                results = [f.result() for f in futures]
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+            pool.shutdown(wait=True)
+            for s, evaluation in zip(new, results):
+                self._keep(s, evaluation)
+        else:
+            for s in new:
+                self._keep(s, simulate_band(*common, s, progress=self.progress))
+        return [self.evaluations[s] for s in presags]
 
-        batch = simulate_many(state, self.pantograph, points, settings=self.settings, keep_histories=True,
-                              progress=finished)
-        self.runs_used += len(points)
-        histories, loss = [], []
-        for run in batch.runs:
-            if not run.ok:
-                p = run.point
-                raise ConvergenceError(
-                    f"dynamic robust pre-sag: the run at {label}, {p.speed / KMH:g} km/h, F_stat {p.static_force:g} N "
-                    f"failed: {run.error}", {"presag_rel": presag_rel, "error": run.error})
-            stats = run.statistics[0]
-            filtered = lowpass_filter(run.time, run.contact_force[:, 0], cutoff=self.settings.cutoff_frequency)
-            histories.append(filtered[window_mask(run.time, stats.window_start, stats.window_end,
-                                                  self.settings.cutoff_frequency)])
-            loss.append(stats.loss_of_contact)
-        evaluation = BandEvaluation(
-            statistics=BandStatistics(
-                presag_rel=presag_rel,
-                mean_force=np.array([np.mean(h) for h in histories]),
-                sigma=np.array([np.std(h) for h in histories]),
-                uplift_max=np.array([run.uplift_max for run in batch.runs]),
-            ),
-            histories=tuple(histories),
-            loss_of_contact=np.array(loss),
-            wall_time=wallclock.perf_counter() - started,
-            warnings=tuple(dict.fromkeys(w for run in batch.runs for w in run.warnings)),
-        )
+    def _keep(self, presag_rel: float, evaluation: BandEvaluation) -> None:
         self.evaluations[presag_rel] = evaluation
-        return evaluation
+        self.runs_used += len(self.grid.static_forces) * len(self.grid.speeds)

@@ -15,7 +15,7 @@ Search (:func:`dynamic_robust_presag`)
     a simulated pre-sag. The answer is that simulated pre-sag, with its simulated statistics; the
     surrogate only chooses where to simulate. Each pre-sag costs one form-finding and one batch.
 
-Tolerance (:func:`worst_case_tolerance`)
+Tolerance (:func:`dynamic_tolerance`)
     The S interval around the minimiser of the worst case W(S) = max_k L_k(S) in which W stays within
     (1 + τ) of its minimum and the limits hold; each end is simulated once and the interval taken again
     from the surrogate through those runs, so its ends are interpolated between simulated pre-sags.
@@ -114,7 +114,7 @@ class SearchSettings:
 
 @dataclass(frozen=True, kw_only=True)
 class DynamicRobustDesign:
-    """The dynamic robust parabolic pre-sag of a band, its tolerance, and what the search cost.
+    """The dynamic robust parabolic pre-sag of a band, and what the search cost.
 
     Attributes
     ----------
@@ -130,20 +130,14 @@ class DynamicRobustDesign:
         Largest loss over the grid at the chosen S (simulated). [- or N]
     statistics : BandStatistics
         Simulated statistics at the chosen S.
-    tolerance : tuple of float
-        S_rel interval whose worst case stays within ``within`` of its minimum. [-]
-    within : float
-        Allowed loss of the tolerance interval. [-]
     uplift_limit : float
         Steady-arm uplift limit kept. [m]
     evaluated : tuple of BandStatistics
-        Every simulated pre-sag, in the order simulated.
+        Every pre-sag simulated when the search ended, in the order simulated.
     runs_used : int
-        Simulation runs of the search and the tolerance. [-]
-    search_runs : int
-        Of those, the runs of the search alone. [-]
-    wall_time, search_time : float
-        Wall time of search and tolerance, and of the search alone. [s]
+        Simulation runs when the search ended (the starting pre-sags included). [-]
+    wall_time : float
+        Wall time of the search. [s]
     at_range_end : bool
         Whether the chosen S lies at an end of the search range (the optimum may lie beyond it).
     grid : OperatingGrid
@@ -159,14 +153,10 @@ class DynamicRobustDesign:
     objective: float
     worst_case_objective: float
     statistics: BandStatistics
-    tolerance: tuple[float, float]
-    within: float
     uplift_limit: float
     evaluated: tuple[BandStatistics, ...]
     runs_used: int
-    search_runs: int
     wall_time: float
-    search_time: float
     at_range_end: bool
     grid: OperatingGrid
     warnings: tuple[str, ...] = ()
@@ -182,17 +172,42 @@ class DynamicRobustDesign:
         return float(self.statistics.uplift_max.max())
 
 
+@dataclass(frozen=True, kw_only=True)
+class DynamicTolerance:
+    """Installation tolerance by simulation: the S interval whose worst case stays near its minimum.
+
+    Attributes
+    ----------
+    low, high : float
+        Ends of the S_rel interval. [-]
+    within : float
+        Allowed loss τ relative to ``worst_case_min``. [-]
+    worst_case_min : float
+        Smallest worst case over S (on the surrogate through the simulated pre-sags). [- or N]
+    runs_used : int
+        Runs simulated for the ends. [-]
+    wall_time : float
+        [s]
+    """
+
+    low: float
+    high: float
+    within: float
+    worst_case_min: float
+    runs_used: int
+    wall_time: float
+
+
 def dynamic_robust_presag(
     evaluator: BandEvaluator,
     objective: DynamicObjective | None = None,
     *,
     starts: tuple[float, ...],
-    within: float = 0.10,
     search: SearchSettings | None = None,
 ) -> DynamicRobustDesign:
     """Choose the parabolic pre-sag that minimises a risk measure of σ/F_m (or σ) over a band.
 
-    See the module notes for the problem, the search and the tolerance.
+    See the module notes for the problem and the search.
 
     Parameters
     ----------
@@ -202,8 +217,6 @@ def dynamic_robust_presag(
         Loss, risk measure and uplift limit; default worst case of σ/F_m, 83.5 mm.
     starts : tuple of float
         One or two starting S_rel, e.g. the quasi-static robust design and the Δe rule. [-]
-    within : float
-        Allowed loss τ of the tolerance interval, in (0, 2]. [-]
     search : SearchSettings, optional
         Range, resolution and limits of the search.
 
@@ -221,19 +234,16 @@ def dynamic_robust_presag(
     """
     objective = objective or DynamicObjective()
     search = search or SearchSettings()
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
     started = wallclock.perf_counter()
     span = evaluator.reference_span
     low, high = search.presag_low / span, search.presag_high / span
     tol, step = search.presag_tolerance / span, search.first_step / span
-    starts = tuple(float(np.clip(s, low, high)) for s in starts)
     if not 1 <= len(starts) <= 2:
         raise ModelError(f"give one or two starting pre-sags, not {len(starts)}")
+    starts = tuple(float(np.clip(s, low, high)) for s in starts)
     if len(starts) == 1 or abs(starts[1] - starts[0]) < 0.5 * step:
         starts = (starts[0], starts[0] + step if starts[0] + step <= high else starts[0] - step)
-    for s in starts:
-        evaluator(s)
+    evaluator.evaluate_many(starts)
     weights = evaluator.grid.weights
     while True:
         surrogate = HistorySurrogate(list(evaluator.evaluations.values()))
@@ -254,78 +264,113 @@ def dynamic_robust_presag(
         if abs(nearest - best) <= tol and objective.feasible(evaluator(nearest).statistics):
             break
         _evaluate_within_budget(evaluator, best, search)
-    search_runs, search_time = evaluator.runs_used, wallclock.perf_counter() - started
-    chosen = evaluator(nearest).statistics
-    tolerance = worst_case_tolerance(evaluator, objective, within=within, low=low, high=high, tol=tol)
-    at_end = min(nearest - low, high - nearest) <= tol
+    # the best simulated pre-sag: the surrogate's minimiser lies within the tolerance of a simulated one
+    chosen = min((e.statistics for e in evaluator.evaluations.values() if objective.feasible(e.statistics)),
+                 key=lambda s: objective.value(s, weights))
+    at_end = min(chosen.presag_rel - low, high - chosen.presag_rel) <= tol
     notes = [w for e in evaluator.evaluations.values() for w in e.warnings]
     if at_end:
         notes.append(f"the optimum lies at the end of the search range {search.presag_low * 1e3:g}–"
                      f"{search.presag_high * 1e3:g} mm; the best pre-sag may lie beyond it")
     return DynamicRobustDesign(
-        presag_rel=float(nearest),
+        presag_rel=chosen.presag_rel,
         reference_span=span,
         loss=objective.loss,
         risk=objective.risk.label,
         objective=objective.value(chosen, weights),
         worst_case_objective=objective.worst_case(chosen),
         statistics=chosen,
-        tolerance=tolerance,
-        within=within,
         uplift_limit=objective.uplift_limit,
         evaluated=tuple(e.statistics for e in evaluator.evaluations.values()),
         runs_used=evaluator.runs_used,
-        search_runs=search_runs,
         wall_time=wallclock.perf_counter() - started,
-        search_time=search_time,
         at_range_end=at_end,
         grid=evaluator.grid,
         warnings=tuple(dict.fromkeys(notes)),
     )
 
 
-def worst_case_tolerance(
-    evaluator: BandEvaluator, objective: DynamicObjective, *, within: float, low: float, high: float, tol: float,
-    max_rounds: int = 3,
-) -> tuple[float, float]:
-    """S_rel interval around the minimiser of the worst case W(S) within (1 + τ)·min W, limits kept.
+def dynamic_tolerance(
+    evaluator: BandEvaluator, objective: DynamicObjective | None = None, *, within: float = 0.10,
+    search: SearchSettings | None = None,
+) -> DynamicTolerance:
+    """S interval around the minimiser of the worst case W(S) in which W ≤ (1 + τ)·min W, limits kept.
 
-    The interval is read from the surrogate through the simulated pre-sags; each end with no
-    simulated pre-sag within ``tol`` is simulated and the interval read again, at most ``max_rounds``
-    times. An end at the search range is not simulated again. [-]
+    The interval is read from the surrogate through the simulated pre-sags (at least two, e.g.
+    those of :func:`dynamic_robust_presag`); each end with no simulated pre-sag within
+    ``presag_tolerance`` (and not at the search range) is simulated once and the interval read again,
+    so that its ends are interpolated between simulated pre-sags rather than extrapolated.
+
+    Parameters
+    ----------
+    evaluator : BandEvaluator
+        With the simulated pre-sags.
+    objective : DynamicObjective, optional
+        Loss and limits (its risk measure is not used: the interval is about the worst case).
+    within : float
+        τ, in (0, 2]. [-]
+    search : SearchSettings, optional
+        Range and resolution.
+    """
+    objective = objective or DynamicObjective()
+    search = search or SearchSettings()
+    if not 0.0 < within <= 2.0:
+        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    started, runs = wallclock.perf_counter(), evaluator.runs_used
+    span = evaluator.reference_span
+    low, high, tol = search.presag_low / span, search.presag_high / span, search.presag_tolerance / span
+    ends, minimum = _tolerance_ends(evaluator, objective, within, low, high, tol)
+    simulated = np.array(list(evaluator.evaluations))
+    missing = [e for e in ends if np.min(np.abs(simulated - e)) > tol and tol < e - low and tol < high - e]
+    evaluator.evaluate_many(missing)
+    if missing:
+        ends, minimum = _tolerance_ends(evaluator, objective, within, low, high, tol)
+    return DynamicTolerance(low=ends[0], high=ends[1], within=within, worst_case_min=minimum,
+                            runs_used=evaluator.runs_used - runs, wall_time=wallclock.perf_counter() - started)
+
+
+def band_curve(evaluator: BandEvaluator, objective: DynamicObjective, resolution: float = 1e-3
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Objective and worst case against S on the surrogate through every simulated pre-sag, from the
+    smallest simulated S to the largest (for plots and tables).
 
     Parameters
     ----------
     evaluator : BandEvaluator
         With at least two simulated pre-sags.
     objective : DynamicObjective
-        Loss and limits.
-    within : float
-        τ. [-]
-    low, high : float
-        Range of S_rel. [-]
-    tol : float
-        Resolution of the ends, S_rel. [-]
+        Loss and risk measure.
+    resolution : float
+        Spacing of the curve on the reference span. [m]
+
+    Returns
+    -------
+    presag_rel, objective, worst_case : ndarray
+        S_rel [-] and the two losses [- or N].
     """
-    for _ in range(max_rounds + 1):
-        surrogate = HistorySurrogate(list(evaluator.evaluations.values()))
-        candidates = _candidates(low, high, tol, surrogate.presags)
-        curve = [surrogate.at(s) for s in candidates]
-        worst = np.array([objective.worst_case(c) if objective.feasible(c) else np.inf for c in curve])
-        best = int(np.argmin(worst))
-        inside = worst <= (1.0 + within) * worst[best]
-        first, last = best, best
-        while first > 0 and inside[first - 1]:
-            first -= 1
-        while last < len(candidates) - 1 and inside[last + 1]:
-            last += 1
-        ends = (float(candidates[first]), float(candidates[last]))
-        missing = [e for e in ends if np.min(np.abs(surrogate.presags - e)) > tol and tol < e - low and tol < high - e]
-        if not missing:
-            return ends
-        for end in missing:
-            evaluator(end)
-    return ends
+    surrogate = HistorySurrogate(list(evaluator.evaluations.values()))
+    presags = _candidates(surrogate.presags[0], surrogate.presags[-1], 4.0 * resolution / evaluator.reference_span,
+                          surrogate.presags)
+    curve = [surrogate.at(s) for s in presags]
+    weights = evaluator.grid.weights
+    return (presags, np.array([objective.value(c, weights) for c in curve]),
+            np.array([objective.worst_case(c) for c in curve]))
+
+
+def _tolerance_ends(evaluator, objective, within, low, high, tol) -> tuple[tuple[float, float], float]:
+    """Ends of the tolerance interval on the current surrogate, and the worst case's minimum."""
+    surrogate = HistorySurrogate(list(evaluator.evaluations.values()))
+    candidates = _candidates(low, high, tol, surrogate.presags)
+    worst = np.array([objective.worst_case(c) if objective.feasible(c) else np.inf
+                      for c in (surrogate.at(s) for s in candidates)])
+    best = int(np.argmin(worst))
+    inside = worst <= (1.0 + within) * worst[best]
+    first, last = best, best
+    while first > 0 and inside[first - 1]:
+        first -= 1
+    while last < len(candidates) - 1 and inside[last + 1]:
+        last += 1
+    return (float(candidates[first]), float(candidates[last])), float(worst[best])
 
 
 def _candidates(low: float, high: float, tol: float, simulated: np.ndarray) -> np.ndarray:
