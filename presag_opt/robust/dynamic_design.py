@@ -17,8 +17,9 @@ Search (:func:`dynamic_robust_presag`)
 
 Tolerance (:func:`dynamic_tolerance`)
     The S interval around the minimiser of the worst case W(S) = max_k L_k(S) in which W stays within
-    (1 + τ) of its minimum and the limits hold; each end is simulated once and the interval taken again
-    from the surrogate through those runs, so its ends are interpolated between simulated pre-sags.
+    (1 + τ) of its minimum and the limits hold; each end not already next to a simulated pre-sag is
+    simulated once and the interval taken again from the surrogate through those runs, so its ends
+    are interpolated between simulated pre-sags.
 
 References
 ----------
@@ -92,8 +93,8 @@ class SearchSettings:
         also the resolution of the tolerance ends. [m] (shown in mm)
     first_step : float
         Distance of the second starting pre-sag from the first, when only one is given (or the two
-        lie closer than half of it); the surrogate is minimised within this much of the simulated
-        pre-sags, or within their spread if that is larger. [m] (shown in mm)
+        lie within twice ``presag_tolerance``); the surrogate is minimised within this much of the
+        simulated pre-sags, or within their spread if that is larger. [m] (shown in mm)
     max_evaluations : int
         Most pre-sags simulated by the search (the tolerance ends come on top). [-]
     """
@@ -241,7 +242,7 @@ def dynamic_robust_presag(
     if not 1 <= len(starts) <= 2:
         raise ModelError(f"give one or two starting pre-sags, not {len(starts)}")
     starts = tuple(float(np.clip(s, low, high)) for s in starts)
-    if len(starts) == 1 or abs(starts[1] - starts[0]) < 0.5 * step:
+    if len(starts) == 1 or abs(starts[1] - starts[0]) < 2.0 * tol:
         starts = (starts[0], starts[0] + step if starts[0] + step <= high else starts[0] - step)
     evaluator.evaluate_many(starts)
     weights = evaluator.grid.weights
@@ -297,8 +298,8 @@ def dynamic_tolerance(
     """S interval around the minimiser of the worst case W(S) in which W ≤ (1 + τ)·min W, limits kept.
 
     The interval is read from the surrogate through the simulated pre-sags (at least two, e.g.
-    those of :func:`dynamic_robust_presag`); each end with no simulated pre-sag within
-    ``presag_tolerance`` (and not at the search range) is simulated once and the interval read again,
+    those of :func:`dynamic_robust_presag`); each end farther than a quarter of ``first_step`` from
+    every simulated pre-sag (and not at the search range) is simulated once and the interval read again,
     so that its ends are interpolated between simulated pre-sags rather than extrapolated.
 
     Parameters
@@ -321,7 +322,8 @@ def dynamic_tolerance(
     low, high, tol = search.presag_low / span, search.presag_high / span, search.presag_tolerance / span
     ends, minimum = _tolerance_ends(evaluator, objective, within, low, high, tol)
     simulated = np.array(list(evaluator.evaluations))
-    missing = [e for e in ends if np.min(np.abs(simulated - e)) > tol and tol < e - low and tol < high - e]
+    near = 0.25 * search.first_step / span
+    missing = [e for e in ends if np.min(np.abs(simulated - e)) > near and tol < e - low and tol < high - e]
     evaluator.evaluate_many(missing)
     if missing:
         ends, minimum = _tolerance_ends(evaluator, objective, within, low, high, tol)

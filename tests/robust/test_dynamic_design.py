@@ -128,7 +128,7 @@ def test_tolerance_interval_matches_brute_force():
     assert low == pytest.approx(inside[0], abs=1e-3) and high == pytest.approx(inside[-1], abs=1e-3)
     assert low < design.presag < high
     assert tolerance.worst_case_min == pytest.approx(worst.min(), rel=0.01)
-    # each end simulated once (neither lay within 0.5 mm of a simulated pre-sag)
+    # each end simulated once (neither lay within 2.5 mm, a quarter of the first step, of a simulated pre-sag)
     assert len(evaluator.evaluations) == searched + 2 and tolerance.runs_used == 2 * len(MEAN)
 
 
