@@ -10,10 +10,11 @@ Problem
 Search (:func:`dynamic_robust_presag`)
     Simulate two starting pre-sags (the quasi-static designs, or one and a step from it); then
     repeatedly minimise the history surrogate (:mod:`presag_opt.robust.surrogate`) through every
-    simulated pre-sag on a fine grid of S (a quarter of the tolerance apart, within reach of the
+    simulated pre-sag on a fine grid of S (a quarter of the resolution apart, within reach of the
     simulated ones) and simulate its minimiser, until the minimiser lies within ``presag_tolerance`` of
-    a simulated pre-sag. The answer is that simulated pre-sag, with its simulated statistics; the
-    surrogate only chooses where to simulate. Each pre-sag costs one form-finding and one batch.
+    a simulated pre-sag. The answer is the best simulated pre-sag, with its simulated statistics; the
+    surrogate only chooses where to simulate. Each pre-sag costs one form-finding and one batch; the
+    two starts (and the two tolerance ends) run side by side with the evaluator's worker processes.
 
 Tolerance (:func:`dynamic_tolerance`)
     The S interval around the minimiser of the worst case W(S) = max_k L_k(S) in which W stays within
