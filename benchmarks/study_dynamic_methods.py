@@ -14,7 +14,8 @@ beta   speed bands β ± 0.05 around β = 0.15, 0.30, 0.45 and 0.60: the three m
        and the recommendation.
 high   a band above the quasi-static validity limit, 120–180 km/h.
 
-A band where no pre-sag keeps the limits is reported with the reason instead of a design.
+A band where no pre-sag keeps the steady-arm uplift limit is reported with the reason, and then
+studied again without the limit (1000 mm) so that the methods can still be compared there.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import sys
 import time
 
 from presag_opt.design.band import KMH, OperatingBand
+from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.dynamics.case import load_case
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust import BandEvaluator, DynamicObjective, OperatingGrid, dynamic_robust_study
@@ -39,6 +41,8 @@ PUBLISHED = {"quasi-static robust, F_m 70–148 N": 55.8, "Δe rule at 109 N": 6
 F_m band, and the paper's recommended 1.12 ‰ on 60 m."""
 BETAS = (0.15, 0.30, 0.45, 0.60)
 HIGH_SPEEDS = (120.0, 180.0)
+NO_LIMIT = 1.0
+"""The largest uplift limit a DynamicObjective takes, 1000 mm: no limit in effect. [m]"""
 
 
 def band(speeds_kmh) -> OperatingBand:
@@ -46,17 +50,22 @@ def band(speeds_kmh) -> OperatingBand:
                          speed_high=speeds_kmh[1] * KMH, aero_coefficient=AERO)
 
 
-def study_band(case, speeds_kmh, workers: int) -> dict:
-    """One band's dynamic robust study as JSON-ready data, or the reason there is no design."""
+def study_band(case, speeds_kmh, workers: int, uplift_limit: float = STEADY_ARM_UPLIFT_LIMIT) -> dict:
+    """One band's dynamic robust study as JSON-ready data, or the reason there is no design (and,
+    when it is the uplift limit, the study without it)."""
     started = time.perf_counter()
-    print(f"\n== F_stat {FORCES[0]:g}–{FORCES[1]:g} N × {speeds_kmh[0]:.0f}–{speeds_kmh[1]:.0f} km/h; "
-          f"load average {os.getloadavg()[0]:.2f}", flush=True)
+    print(f"\n== F_stat {FORCES[0]:g}–{FORCES[1]:g} N × {speeds_kmh[0]:.0f}–{speeds_kmh[1]:.0f} km/h, uplift limit "
+          f"{uplift_limit * 1e3:g} mm; load average {os.getloadavg()[0]:.2f}", flush=True)
     try:
         study = dynamic_robust_study(case.catenary, case.pantograph, band(speeds_kmh), static_points=POINTS[0],
-                                     speed_points=POINTS[1], settings=case.settings, workers=workers)
+                                     speed_points=POINTS[1], settings=case.settings, workers=workers,
+                                     objective=DynamicObjective(uplift_limit=uplift_limit))
     except (ModelError, ConvergenceError) as exc:
-        print(f"no design: {exc}")
-        return {"speed_kmh": list(speeds_kmh), "error": str(exc), "wall_time_s": time.perf_counter() - started}
+        print(f"no design: {exc}", flush=True)
+        failed = {"speed_kmh": list(speeds_kmh), "error": str(exc), "wall_time_s": time.perf_counter() - started}
+        if "steady-arm uplift" in str(exc) and uplift_limit < NO_LIMIT:
+            failed["without_uplift_limit"] = study_band(case, speeds_kmh, workers, NO_LIMIT)
+        return failed
     data = study.to_dict()
     print(f"β {data['beta'][0]:.2f}–{data['beta'][1]:.2f}; {data['runs_used']} runs, {data['wall_time_s']:.0f} s")
     for m in data["methods"]:
@@ -68,9 +77,9 @@ def study_band(case, speeds_kmh, workers: int) -> dict:
     return data
 
 
-def case_part(case, workers: int) -> dict:
+def case_part(case, workers: int, uplift_limit: float) -> dict:
     """The case-study band and the published pre-sags simulated on its grid."""
-    data = study_band(case, CASE_SPEEDS, workers)
+    data = study_band(case, CASE_SPEEDS, workers, uplift_limit)
     if "error" in data:
         return data
     grid = OperatingGrid.from_band(band(CASE_SPEEDS), static_points=POINTS[0], speed_points=POINTS[1])
@@ -96,6 +105,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--parts", default="case,beta,high")
+    parser.add_argument("--betas", default=",".join(f"{b:g}" for b in BETAS), help="centres of the beta bands")
+    parser.add_argument("--uplift-limit", type=float, default=STEADY_ARM_UPLIFT_LIMIT * 1e3, help="in mm")
     parser.add_argument("--out", default=None, help="write every number to this JSON file")
     args = parser.parse_args()
     parts = args.parts.split(",")
@@ -103,12 +114,13 @@ def main() -> int:
     wave = case.catenary.contact_wire.wave_speed / KMH
     out = {}
     if "case" in parts:
-        out["case"] = case_part(case, args.workers)
+        out["case"] = case_part(case, args.workers, args.uplift_limit * 1e-3)
     if "beta" in parts:
-        out["beta"] = {f"{beta:.2f}": study_band(case, ((beta - 0.05) * wave, (beta + 0.05) * wave), args.workers)
-                       for beta in BETAS}
+        out["beta"] = {f"{beta:.2f}": study_band(case, ((beta - 0.05) * wave, (beta + 0.05) * wave), args.workers,
+                                                 args.uplift_limit * 1e-3)
+                       for beta in map(float, args.betas.split(","))}
     if "high" in parts:
-        out["high"] = study_band(case, HIGH_SPEEDS, args.workers)
+        out["high"] = study_band(case, HIGH_SPEEDS, args.workers, args.uplift_limit * 1e-3)
     if args.out:
         with open(args.out, "w", encoding="utf-8") as fh:
             json.dump(out, fh, indent=2, ensure_ascii=False)

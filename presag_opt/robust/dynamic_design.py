@@ -12,7 +12,9 @@ Search (:func:`dynamic_robust_presag`)
     repeatedly minimise the history surrogate (:mod:`presag_opt.robust.surrogate`) through every
     simulated pre-sag on a fine grid of S (a quarter of the resolution apart, within reach of the
     simulated ones) and simulate its minimiser, until the minimiser lies within ``presag_tolerance`` of
-    a simulated pre-sag. The answer is the best simulated pre-sag, with its simulated statistics; the
+    a simulated pre-sag and at least three are simulated (two give the surrogate's curvature only if
+    the model is linear in S; if the minimiser is a start, the other start mirrored about it is
+    simulated). The answer is the best simulated pre-sag, with its simulated statistics; the
     surrogate only chooses where to simulate. Each pre-sag costs one form-finding and one batch; the
     two starts (and the two tolerance ends) run side by side with the evaluator's worker processes.
 
@@ -264,7 +266,14 @@ def dynamic_robust_presag(
         best = candidates[int(np.argmin(values))]
         nearest = simulated[int(np.argmin(np.abs(simulated - best)))]
         if abs(nearest - best) <= tol and objective.feasible(evaluator(nearest).statistics):
-            break
+            if len(simulated) >= 3:
+                break
+            # Two pre-sags give the surrogate its curvature only if the model is linear in S: measure it
+            # with a third one, the other start mirrored about the minimiser.
+            other = simulated[simulated != nearest][0]
+            best = float(np.clip(2.0 * nearest - other, low, high))
+            if np.min(np.abs(simulated - best)) <= tol:
+                best = 0.5 * (nearest + other)
         _evaluate_within_budget(evaluator, best, search)
     # the best simulated pre-sag: the surrogate's minimiser lies within the tolerance of a simulated one
     chosen = min((e.statistics for e in evaluator.evaluations.values() if objective.feasible(e.statistics)),

@@ -166,3 +166,14 @@ def test_the_surrogate_is_exact_for_an_affine_history_and_at_simulated_presags()
                          + FLOOR**2)
     np.testing.assert_allclose(middle.sigma, cubic_free, rtol=1e-9)
     assert surrogate.at(0.050 / SPAN) is evaluator.evaluations[0.050 / SPAN].statistics
+
+
+def test_a_start_at_the_optimum_is_confirmed_by_a_third_presag():
+    objective = DynamicObjective(uplift_limit=0.1)
+    best, value = brute_force(objective)
+    evaluator = SyntheticEvaluator()
+    design = dynamic_robust_presag(evaluator, objective, starts=(best / SPAN, (best + 0.006) / SPAN))
+    simulated = sorted(s * SPAN for s in evaluator.evaluations)
+    assert len(simulated) >= 3 and simulated[0] < best  # the other start mirrored about the optimum
+    assert abs(design.presag - best) <= 1e-3
+    assert design.objective == pytest.approx(value, rel=0.01)
