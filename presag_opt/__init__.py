@@ -49,9 +49,12 @@ _API = {
         "recommend", "section_elasticity", "speed_context", "tension_label",
     ),
     "presag_opt.robust": (
-        "SHAPES", "Buildability", "DynamicCheck", "DynamicRun", "ForceScenarios", "PathModel", "Risk",
-        "RobustDesign", "RobustStudy", "ToleranceBand", "build_path_model", "dynamic_check",
-        "evaluate_design", "robust_presag", "robust_study", "tolerance_band",
+        "SHAPES", "BandEvaluation", "BandEvaluator", "BandStatistics", "Buildability", "DynamicCheck",
+        "DynamicObjective", "DynamicRobustDesign", "DynamicRobustStudy", "DynamicRun", "DynamicTolerance",
+        "ForceScenarios", "HistorySurrogate", "MethodResult", "OperatingGrid", "PathModel", "Risk",
+        "RobustDesign", "RobustStudy", "SearchSettings", "ToleranceBand", "band_curve", "build_path_model",
+        "design_catenary", "dynamic_check", "dynamic_robust_presag", "dynamic_robust_study", "dynamic_tolerance",
+        "evaluate_design", "robust_presag", "robust_study", "simulate_band", "tolerance_band",
     ),
     "presag_opt.validation": (
         "EN50318_RANGES", "PAPER_RECOMMENDATION", "PAPER_SINGLE_CURVE_ERROR", "PAPER_TABLE1",

@@ -401,3 +401,43 @@ def plot_mixed_findings(findings: Sequence[MixedFinding], path: str | Path,
     ax.set_xlabel("S_rel over the F_m band [‰]")
     legend_outside(fig, ax)
     return save_figure(fig, path)
+
+
+def plot_dynamic_objective(study, path: str | Path) -> Path:
+    """Objective and worst case against the parabolic pre-sag S over the band, by simulation.
+
+    The lines are the history surrogate through the simulated pre-sags (markers); the shaded band
+    is the installation tolerance, the vertical lines the three designs compared.
+
+    Parameters
+    ----------
+    study : presag_opt.robust.dynamic_study.DynamicRobustStudy
+        The study to draw.
+    path : str or Path
+        Output file.
+    """
+    import numpy as np
+
+    design = study.design
+    span_mm = design.reference_span * 1e3
+    presags, objective, worst = study.curve
+    fig, ax = new_figure(legend=True)
+    ax.plot(presags * span_mm, worst, "k", lw=2, label="worst case over the band")
+    if design.risk != "minimax":
+        ax.plot(presags * span_mm, objective, "tab:blue", lw=1.5, label=design.risk)
+    simulated = np.array([s.presag_rel for s in study.simulated])
+    ax.plot(simulated * span_mm, [s.losses(design.loss).max() for s in study.simulated], "ko", ms=5,
+            label=f"simulated pre-sags ({study.runs_used} runs)")
+    tolerance = study.tolerance
+    ax.axvspan(tolerance.low * span_mm, tolerance.high * span_mm, color="tab:green", alpha=0.2,
+               label=f"tolerance (within {tolerance.within * 100:g} %)")
+    for method, colour, line in zip(study.methods, ("tab:red", "tab:orange", "tab:green"), ("--", "--", "-")):
+        ax.axvline(method.presag_rel * span_mm, color=colour, ls=line,
+                   label=f"{method.method}: {method.presag_rel * span_mm:.1f} mm")
+    ax.set_xlabel(f"pre-sag S on a {design.reference_span:g} m span [mm]")
+    ax.set_ylabel("σ/F_m" if design.loss == "sigma-over-fm" else "σ [N]")
+    band = study.band
+    ax.set_title(f"{study.catenary_name}: F_stat {band.static_force_low:g}–{band.static_force_high:g} N, "
+                 f"{band.speed_low * 3.6:g}–{band.speed_high * 3.6:g} km/h (β {study.beta[0]:.2f}–{study.beta[1]:.2f})")
+    legend_outside(fig, ax)
+    return save_figure(fig, path)

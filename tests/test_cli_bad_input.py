@@ -219,3 +219,38 @@ def test_nothing_cites_a_file_outside_the_repository():
                     cited.append(str(path.relative_to(REPOSITORY)))
     assert not cited
     assert (REPOSITORY / "docs" / "assumptions.md").is_file()
+
+
+# ----- 9. dynamic robust design (presag robust --dynamic) ------------------------------------------
+
+SHORT_SPANS = REPOSITORY / "tests" / "robust" / "models" / "st_9.8_six_short_spans.toml"
+"""Six 30 m spans: the smallest section the default analysis window (2 lead-in, 2 analysed) fits."""
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (["--static-force", "140:70"], "static_force_low = 140 N is above static_force_high = 70 N"),
+    (["--static-force", "70"], "static force band 70:70 N is empty"),
+    (["--speed", "90:50"], "speed_low = 90 km/h is above speed_high = 50 km/h"),
+    (["--speed", "0:90"], "speed band starts at 0 km/h"),
+    (["--speed", "50:350"], "speed = 350 km/h is at or above the contact-wire wave speed 344.5 km/h"),
+    (["--uplift-limit", "0.5"], "uplift_limit = 0.5 mm is outside the valid range [1, 1000] mm"),
+    (["--grid-points", "4"], "--grid-points 4: give two whole numbers"),
+    (["--shape", "per-dropper"], "--shape per-dropper is an option of the quasi-static design"),
+])
+def test_dynamic_design_refuses_bad_input_before_any_work(tmp_path, args, words):
+    started = time.monotonic()
+    line = one_error_line(presag("robust", "--dynamic", *args, "--no-cache", cwd=tmp_path))
+    assert words in line, line
+    assert time.monotonic() - started < 60  # refused at once, not after simulating
+
+
+def test_dynamic_options_need_dynamic(tmp_path):
+    assert "--speed is an option of the dynamic design; add --dynamic" in one_error_line(
+        presag("robust", "--speed", "50:90", cwd=tmp_path))
+
+
+@pytest.mark.slow
+def test_an_uplift_limit_no_presag_meets_names_the_smallest_uplift(tmp_path):
+    line = one_error_line(presag("robust", "--dynamic", str(SHORT_SPANS), "--static-force", "80:140", "--speed",
+                                 "120:140", "--grid-points", "2,2", "--uplift-limit", "20", cwd=tmp_path, timeout=900))
+    assert "keeps the steady-arm uplift within the limit 20 mm over the band: the smallest uplift reached is" in line

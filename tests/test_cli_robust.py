@@ -65,3 +65,35 @@ def test_bad_arguments(tmp_path, args, words):
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert words in result.stderr.strip().splitlines()[-1], result.stderr
+
+
+SHORT_SPANS = Path(__file__).parent / "robust" / "models" / "st_9.8_six_short_spans.toml"
+
+
+@pytest.mark.slow
+def test_robust_dynamic_json_table_and_plot(tmp_path):
+    args = ("robust", "--dynamic", str(SHORT_SPANS), "--static-force", "80:140", "--speed", "120:140",
+            "--grid-points", "2,2")
+    result = presag(*args, "--json", "--plot", "d.png", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    for key in ("presag_mm", "worst_case_objective", "objective", "runs_used", "tolerance_mm",
+                "quasi_static_presag_mm", "uplift_max_mm"):
+        assert key in data, key
+    low, high = data["tolerance_mm"]
+    assert low <= data["presag_mm"] <= high
+    assert data["runs_used"] == 4 * data["presags_simulated"]
+    assert data["objective"] == data["worst_case_objective"]  # minimax
+    assert data["uplift_max_mm"] <= data["uplift_limit_mm"]
+    methods = {m["method"]: m for m in data["methods"]}
+    assert methods["dynamic robust"]["worst_case_objective"] <= methods["quasi-static robust"]["worst_case_objective"]
+    assert methods["quasi-static robust"]["presag_mm"] == data["quasi_static_presag_mm"]
+    assert data["recommendation"]["method"] in ("quasi-static robust", "dynamic robust")
+    assert (tmp_path / "d.png").stat().st_size > 10_000
+    # the quasi-static design is the one `presag robust` gives for the band's F_m range
+    fm = f"{80 + 0.00097 * 120**2:.6f}:{140 + 0.00097 * 140**2:.6f}"
+    quasi = json.loads(presag("robust", str(SHORT_SPANS), "--fm-band", fm, "--json", cwd=tmp_path).stdout)
+    assert quasi["presag_mm"] == pytest.approx(data["quasi_static_presag_mm"], rel=1e-6)
+    table = presag(*args, "--risk", "mean", cwd=tmp_path)
+    assert table.returncode == 0, table.stderr
+    assert "Recommendation: build the" in table.stdout and "Installation tolerance" in table.stdout

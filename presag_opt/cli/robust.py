@@ -1,15 +1,40 @@
-"""``presag robust`` and ``presag tolerance``."""
+"""``presag robust`` (quasi-static, or ``--dynamic``: by simulation over static forces × speeds) and
+``presag tolerance``."""
 
 from __future__ import annotations
 
 import argparse
+import os
 
-from presag_opt.cli.common import add_json_flag, band, model_help, output_path, print_json, progress, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    band,
+    float_list,
+    model_help,
+    output_path,
+    positive_float,
+    print_json,
+    print_warnings,
+    progress,
+    table,
+)
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary
 
 DEFAULT_MODEL = "st_9.8_ideal"
 CASE_STUDY_FM_BAND = "70:148"
+DYNAMIC_DEFAULTS = {
+    "static_force": (70.0, 140.0),
+    "speed": (50.0, 90.0),
+    "objective": "sigma-over-fm",
+    "pantograph": "case_study_2mass_friction",
+    "aero": 0.00097,
+    "uplift_limit": 83.5,
+    "grid_points": [4.0, 3.0],
+    "workers": min(2, os.cpu_count() or 1),
+}
+"""Options of ``--dynamic`` and their defaults: the case study (F_stat 70–140 N up to 90 km/h, simulated
+from 50 km/h, the paper's lowest grid speed; α_ae 0.00097 N/(km/h)²; uplift limit 83.5 mm)."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -20,7 +45,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     ):
         p = subparsers.add_parser(name, help=helptext, description=f"{helptext[0].upper()}{helptext[1:]}.")
         p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
-        p.add_argument("--fm-band", default=CASE_STUDY_FM_BAND, metavar="N:N",
+        p.add_argument("--fm-band", default=None, metavar="N:N",
                        help=f"mean contact force band LOW:HIGH in N (default {CASE_STUDY_FM_BAND}, the case study)")
         p.add_argument("--within", default="10", metavar="PERCENT",
                        help="allowed loss of the tolerance band in %%, e.g. 10 or 10%% (default 10)")
@@ -32,10 +57,49 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                            help="parabola: one pre-sag per span (default); per-dropper: every dropper height free")
             p.add_argument("--risk", metavar="MEASURE", default="minimax",
                            help="minimax (default), mean, or cvar:LEVEL such as cvar:0.9")
-            p.add_argument("--step-mm", metavar="MM", type=float, default=5.0,
+            p.add_argument("--step-mm", metavar="MM", type=float, default=None,
                            help="construction step of per-dropper heights in mm (default 5)")
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
+            _add_dynamic_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
+
+
+def _add_dynamic_options(p: argparse.ArgumentParser) -> None:
+    d = DYNAMIC_DEFAULTS
+    group = p.add_argument_group(
+        "dynamic design (--dynamic)",
+        "choose the parabolic pre-sag by batched simulation over a band of static forces x speeds: the S that "
+        "minimises the risk measure of sigma/F_m (or sigma), keeping the steady-arm uplift limit and F_m - 3 sigma > 0; "
+        "compared with the Δe rule and the quasi-static robust design, with a recommendation",
+    )
+    group.add_argument("--dynamic", action="store_true", help="design by dynamic simulation")
+    group.add_argument("--static-force", metavar="N:N", type=band, default=None,
+                       help="static contact force band LOW:HIGH in N (default %g:%g)" % d["static_force"])
+    group.add_argument("--speed", metavar="KMH:KMH", type=band, default=None,
+                       help="speed band LOW:HIGH in km/h (default %g:%g)" % d["speed"])
+    group.add_argument("--objective", choices=("sigma-over-fm", "sigma"), default=None,
+                       help=f"loss at each operating point (default {d['objective']})")
+    group.add_argument("--pantograph", metavar="FILE", default=None,
+                       help=f"pantograph model file or built-in name (default {d['pantograph']})")
+    group.add_argument("--aero", metavar="N_per_kmh2", type=positive_float, default=None,
+                       help=f"aerodynamic uplift coefficient in N/(km/h)^2 (default {d['aero']:g})")
+    group.add_argument("--uplift-limit", metavar="MM", type=positive_float, default=None,
+                       help=f"steady-arm uplift limit in mm (default {d['uplift_limit']:g}, the case study)")
+    group.add_argument("--grid-points", metavar="N,N", type=float_list, default=None,
+                       help="simulated static forces and speeds across the band (default %g,%g)" % tuple(d["grid_points"]))
+    group.add_argument("--workers", metavar="N", type=int, default=None,
+                       help="processes that simulate pre-sags side by side when the search asks for two at once "
+                       f"(default {d['workers']})")
+
+
+def _dynamic_option(args: argparse.Namespace, name: str):
+    """An option of ``--dynamic``: its value, or its default; refused without ``--dynamic``."""
+    value = getattr(args, name)
+    if not args.dynamic:
+        if value is not None:
+            raise ModelError(f"--{name.replace('_', '-')} is an option of the dynamic design; add --dynamic")
+        return None
+    return DYNAMIC_DEFAULTS[name] if value is None else value
 
 
 def parse_within(text: str) -> float:
@@ -50,7 +114,7 @@ def _study(args: argparse.Namespace, **kwargs):
     from presag_opt.robust import robust_study  # cvxpy is imported only when a robust command runs
 
     try:
-        fm_band = band(args.fm_band)
+        fm_band = band(args.fm_band or CASE_STUDY_FM_BAND)
     except argparse.ArgumentTypeError as exc:
         raise ModelError(f"--fm-band {exc}") from None
     within = parse_within(args.within)
@@ -65,7 +129,12 @@ def robust_command(args: argparse.Namespace) -> int:
     from presag_opt.robust import Buildability, Risk
 
     risk = Risk.parse(args.risk)
-    build = Buildability(step=args.step_mm * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
+    for name in DYNAMIC_DEFAULTS:
+        _dynamic_option(args, name)
+    if args.dynamic:
+        return _dynamic_command(args, risk)
+    step = 5.0 if args.step_mm is None else args.step_mm
+    build = Buildability(step=step * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
     study, plot = _study(args, shape=args.shape, risk=risk, buildability=build)
     _plot(args, study, plot)
     data = study.to_dict()
@@ -118,3 +187,62 @@ def _plot(args: argparse.Namespace, study, plot) -> None:
         written = plot_waviness(study, plot)
         if not args.json:
             print(f"Plot saved to {written}")
+
+
+def _dynamic_command(args: argparse.Namespace, risk) -> int:
+    """``presag robust --dynamic``: the dynamic robust study of a band, printed or as JSON."""
+    from presag_opt.design.band import KMH, OperatingBand
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.robust.dynamic_design import DynamicObjective
+    from presag_opt.robust.dynamic_study import dynamic_robust_study
+
+    for option, given in (("--fm-band", args.fm_band is not None), ("--step-mm", args.step_mm is not None),
+                          ("--asymmetric", args.asymmetric), ("--shape per-dropper", args.shape != "parabola")):
+        if given:
+            raise ModelError(f"{option} is an option of the quasi-static design; --dynamic designs a parabola "
+                             "over a band of static forces and speeds (--static-force, --speed)")
+    points = _dynamic_option(args, "grid_points")
+    if len(points) != 2 or any(p != int(p) for p in points):
+        raise ModelError(f"--grid-points {','.join(f'{p:g}' for p in points)}: give two whole numbers, static forces "
+                         "and speeds, e.g. 4,3")
+    (f_low, f_high), (v_low, v_high) = _dynamic_option(args, "static_force"), _dynamic_option(args, "speed")
+    band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
+                         speed_high=v_high * KMH, aero_coefficient=_dynamic_option(args, "aero") / KMH**2)
+    objective = DynamicObjective(loss=_dynamic_option(args, "objective"), risk=risk,
+                                 uplift_limit=_dynamic_option(args, "uplift_limit") * 1e-3)
+    within = parse_within(args.within)
+    plot = output_path(args.plot) if args.plot else None
+    catenary = load_catenary(args.model)
+    pantograph = load_pantograph(_dynamic_option(args, "pantograph"))
+    with progress(args) as report:
+        study = dynamic_robust_study(catenary, pantograph, band, objective=objective, within=within,
+                                     static_points=int(points[0]), speed_points=int(points[1]),
+                                     workers=_dynamic_option(args, "workers"), progress=report)
+    if plot:
+        from presag_opt.plotting import plot_dynamic_objective
+
+        written = plot_dynamic_objective(study, plot)
+    data = study.to_dict()
+    print_warnings(data["warnings"])
+    if args.json:
+        print_json(data)
+        return 0
+    loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
+    fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
+    print(f"Dynamic robust pre-sag: {study.catenary_name}, {study.pantograph_name}")
+    print(f"band: F_stat {f_low:g}–{f_high:g} N × {v_low:g}–{v_high:g} km/h (β {data['beta'][0]:.2f}–{data['beta'][1]:.2f}), "
+          f"{int(points[0])} × {int(points[1])} simulated points; objective: {data['risk']} of {loss}; "
+          f"uplift limit {data['uplift_limit_mm']:g} mm")
+    rows = [(m["method"], m["presag_mm"], m["objective"], m["worst_case_objective"], m["mean_objective"],
+             m["uplift_max_mm"], m["cost_s"], "yes" if m["within_tolerance"] else "no") for m in data["methods"]]
+    print(table(["method", f"S on {data['reference_span_m']:g} m [mm]", "objective", f"worst {loss}", f"mean {loss}",
+                 "max uplift [mm]", "cost [s]", f"within {100 * within:g} %"],
+                rows, ["{}", "{:.1f}", fmt, fmt, fmt, "{:.1f}", "{:.0f}", "{}"]))
+    low, high = data["tolerance_mm"]
+    print(f"\nInstallation tolerance (worst case within {100 * within:g} % of its minimum): {low:.1f}–{high:.1f} mm")
+    print(f"Simulation: {data['runs_used']} runs at {data['presags_simulated']} pre-sags "
+          f"(search {data['search_runs']} runs, {data['search_time_s']:.0f} s; with the tolerance {data['wall_time_s']:.0f} s)")
+    print(f"Recommendation: build the {data['recommendation']['method']} design — {data['recommendation']['reason']}")
+    if plot:
+        print(f"Plot saved to {written}")
+    return 0

@@ -166,7 +166,7 @@ def contact_force_statistics(
     time = np.asarray(time, dtype=float)
     raw = np.asarray(contact_force, dtype=float)
     filtered = lowpass_filter(time, raw, cutoff=cutoff)
-    inside = _window_mask(time, window_start, window_end, cutoff)
+    inside = window_mask(time, window_start, window_end, cutoff)
     window = filtered[inside]
     mean, std = float(np.mean(window)), float(np.std(window))
     return ContactForceStatistics(
@@ -195,8 +195,24 @@ def _sampling_rate(time: np.ndarray, force: np.ndarray) -> float:
     return 1.0 / step
 
 
-def _window_mask(time: np.ndarray, start: float, end: float, cutoff: float) -> np.ndarray:
-    """Boolean mask of the samples in [start, end], after checking the window. [-]"""
+def window_mask(time: np.ndarray, start: float, end: float, cutoff: float = CUTOFF_FREQUENCY) -> np.ndarray:
+    """Boolean mask of the samples of a record in the analysis window [start, end], after checking the
+    window: the samples :func:`contact_force_statistics` takes its statistics over. [-]
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Sample times of the record. [s]
+    start, end : float
+        The analysis window. [s]
+    cutoff : float
+        Low-pass cut-off frequency (the window must span :data:`MIN_WINDOW_CUTOFF_PERIODS` of its periods). [Hz]
+
+    Raises
+    ------
+    ModelError
+        A window outside the record or too short.
+    """
     shortest = MIN_WINDOW_CUTOFF_PERIODS / cutoff
     tol = 1e-9 * max(1.0, abs(time[-1]))
     if start < time[0] - tol or end > time[-1] + tol:

@@ -1,18 +1,30 @@
 """Dynamic check of pre-sag designs: simulated runs over a grid of static forces and speeds.
 
 Holds :func:`dynamic_check` and its results (EN 50367 statistics per run, summarised per design and
-speed regime). The simulation itself is :mod:`presag_opt.dynamics`; the designs come from
-:mod:`presag_opt.robust.study`.
+speed regime), and :func:`design_catenary`, the catenary built to a per-dropper design of the linear
+program, so that any design — a parabola or a per-dropper profile — is form-found to its own
+geometry and simulated the same way. The runs of a design are one
+:func:`~presag_opt.dynamics.batch.simulate_many` batch on one form-found state. The designs come
+from :mod:`presag_opt.robust.study`; the dynamic design itself is
+:mod:`presag_opt.robust.dynamic_design`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
+from presag_opt.design.band import KMH
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
+from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.errors import ConvergenceError
+from presag_opt.robust.operating_grid import band_static_settings
+from presag_opt.robust.path import PathModel
 from presag_opt.static.equilibrium import form_find
+from presag_opt.system.catenary import Catenary
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -24,7 +36,8 @@ class DynamicRun:
     design : str
         Design label.
     presag : float
-        Mid-span pre-sag on the reference span. [m]
+        Mid-span pre-sag on the reference span (for a profile: its mean mid-span depth over span
+        length times the reference span). [m]
     static_force : float
         Static uplift force. [N]
     speed : float
@@ -33,6 +46,8 @@ class DynamicRun:
         Speed over contact-wire wave speed. [-]
     mean_force : float
         Mean contact force F_m over the analysed section. [N]
+    std_force : float
+        σ of the filtered contact force. [N]
     sigma_over_mean : float
         σ/F_m. [-]
     uplift_max : float
@@ -47,6 +62,7 @@ class DynamicRun:
     speed: float
     beta: float
     mean_force: float
+    std_force: float
     sigma_over_mean: float
     uplift_max: float
     loss_of_contact: float
@@ -89,26 +105,64 @@ class DynamicCheck:
         return rows
 
 
+def design_catenary(catenary: Catenary, path: PathModel, depths: np.ndarray) -> Catenary:
+    """The catenary built to a design of the path model's droppers (e.g. a per-dropper profile).
+
+    The designed spans get the design's depths. Every other span gets the relative profile (depth
+    over span length against x/l) of the designed span nearest to it in length, interpolated at its
+    own droppers; in an ideal section, whose central span is designed, every span gets the same
+    profile.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model the design was made for.
+    path : PathModel
+        Path model of the design (its droppers, spans and relative positions).
+    depths : ndarray
+        Depth below the support level of every design dropper, as in
+        :attr:`~presag_opt.robust.lp.RobustDesign.depths`. [m]
+    """
+    lengths = catenary.layout.span_lengths
+    designed = {int(s): np.flatnonzero(path.dropper_span == s) for s in path.spans}
+    profile = []
+    for s, length in enumerate(lengths):
+        if s in designed:
+            profile.append(tuple(depths[designed[s]]))
+            continue
+        source = min(designed, key=lambda d: (abs(lengths[d] - length), d))
+        idx = designed[source]
+        t = np.concatenate([[0.0], path.dropper_fraction[idx], [1.0]])
+        relative = np.concatenate([[0.0], depths[idx] / lengths[source], [0.0]])
+        drops = catenary.droppers.positions_in_span(length)
+        profile.append(tuple(np.interp(drops / length, t, relative) * length))
+    return catenary.with_presag_profile(profile)
+
+
 def dynamic_check(
-    catenary,
-    designs: dict[str, float],
+    catenary: Catenary,
+    designs: Mapping[str, float | Catenary],
     *,
     pantograph,
     static_forces,
     speeds,
     aero_coefficient: float,
     reference_span: float,
-    settings=None,
+    settings: SimulationSettings | None = None,
     progress=None,
 ) -> DynamicCheck:
-    """Simulate each parabolic design over a grid of static forces and speeds.
+    """Simulate each design over a grid of static forces and speeds.
+
+    Each design is form-found once, with the element length the fastest speed needs
+    (:func:`~presag_opt.robust.operating_grid.band_static_settings`), and all its runs are one batch.
 
     Parameters
     ----------
     catenary : Catenary
-        System model; each design is form-found with its own pre-sag.
-    designs : dict
-        Label -> relative pre-sag S_rel. [-]
+        System model.
+    designs : mapping
+        Label -> relative pre-sag S_rel of a parabola [-], or a catenary built to any profile (see
+        :func:`design_catenary`).
     pantograph : Pantograph
         Pantograph model.
     static_forces : sequence of float
@@ -120,32 +174,40 @@ def dynamic_check(
     reference_span : float
         Span the pre-sag is quoted on. [m]
     settings : SimulationSettings, optional
-        Numerical settings of the simulator; each design is form-found with its ``static`` settings.
+        Numerical settings of the simulator; default automatic numerics.
     progress : callable, optional
-        Called with a short message before each run.
-    """
-    # The simulator (scipy.signal) is imported only when a check runs, like in the command line.
-    from presag_opt.dynamics.simulate import simulate
+        Called with a short message before each design's runs.
 
+    Raises
+    ------
+    ConvergenceError
+        A run failed (the message names the design and the point).
+    """
+    settings = settings or SimulationSettings(numerics="auto")
+    static = band_static_settings(catenary, speeds, settings)
+    points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=aero_coefficient)
+              for f in static_forces for v in speeds]
     runs = []
-    for label, presag_rel in designs.items():
-        state = form_find(catenary.with_presag(presag_rel), settings.static if settings is not None else None)
-        for force in static_forces:
-            for speed in speeds:
-                if progress:
-                    progress(f"{label}: F_stat {force:g} N, {speed * 3.6:g} km/h")
-                result = simulate(state, pantograph, speed=speed, static_force=force,
-                                  aero_coefficient=aero_coefficient, settings=settings)
-                stats = result.statistics
-                runs.append(DynamicRun(
-                    design=label,
-                    presag=presag_rel * reference_span,
-                    static_force=float(force),
-                    speed=float(speed),
-                    beta=float(result.to_dict()["beta"]),
-                    mean_force=stats.mean_force,
-                    sigma_over_mean=stats.sigma_over_mean,
-                    uplift_max=result.uplift_max,
-                    loss_of_contact=stats.loss_of_contact,
-                ))
+    for label, design in designs.items():
+        built = design if isinstance(design, Catenary) else catenary.with_presag(design)
+        if progress:
+            progress(f"{label}: {len(points)} runs")
+        batch = simulate_many(form_find(built, static), pantograph, points, settings=settings)
+        for run in batch.runs:
+            if not run.ok:
+                raise ConvergenceError(f"dynamic check of {label}: the run at {run.point.speed / KMH:g} km/h, F_stat "
+                                       f"{run.point.static_force:g} N failed: {run.error}")
+            stats = run.statistics[0]
+            runs.append(DynamicRun(
+                design=label,
+                presag=built.presag_rel * reference_span,
+                static_force=run.point.static_force,
+                speed=run.point.speed,
+                beta=run.speed_ratio,
+                mean_force=stats.mean_force,
+                std_force=stats.std_force,
+                sigma_over_mean=stats.sigma_over_mean,
+                uplift_max=run.uplift_max,
+                loss_of_contact=stats.loss_of_contact,
+            ))
     return DynamicCheck(runs=tuple(runs))

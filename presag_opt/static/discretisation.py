@@ -319,8 +319,7 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     end = reg_xy[np.minimum(span_idx + 1, n_spans)]
     xy = start + t[:, None] * (end - start)
 
-    presag = cat.presag_rel * lengths
-    z_cw = cat.contact_wire_height - 4.0 * presag * t * (1.0 - t)
+    z_cw = cat.contact_wire_height - np.concatenate([cat.presag_depth(i, pts) for i, pts in enumerate(local)])
     z_mw = cat.contact_wire_height + cat.system_height - 4.0 * _messenger_sag_guess(cat, lengths) * t * (1.0 - t)
 
     cw_nodes = np.arange(n_st)
@@ -638,6 +637,7 @@ def _steady_arm_pivots(
         adjacent = [spans[i] for i in (m - 1, m) if 0 <= i < len(spans)]
         first_drop = [cat.droppers.positions_in_span(length)[0] for length in adjacent]
         vertical = GRAVITY * (cat.contact_wire.mass_per_length * sum(first_drop) / 2.0 + arm.mass / 2.0)
+        # the pull of the parabola of presag_rel (for a profile: of its label, as good as a first guess needs)
         vertical += sum(4.0 * tension * cat.presag_rel * (1.0 - 2.0 * d / length) for d, length in zip(first_drop, adjacent))
         direction = np.append(-pull[:2] / size * size, vertical)
         force = np.linalg.norm(direction)

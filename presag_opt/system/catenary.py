@@ -296,7 +296,14 @@ class Catenary:
         Lateral offset of the contact wire at the masts, alternating in sign. [m]
     presag_rel : float
         Pre-sag as a fraction of span length (0.0005 = 0.5 ‰); each span's mid-span pre-sag is
-        presag_rel times its length (Swedish practice). [-]
+        presag_rel times its length (Swedish practice): the contact wire lies on a parabola through
+        the droppers. With a ``presag_profile`` it is only the profile's label (its mean mid-span
+        depth over span length, see :meth:`with_presag_profile`). [-]
+    presag_profile : tuple of tuple of float, or None
+        Any other pre-sag: the depth of the contact wire below its support level at every dropper,
+        one tuple per span (droppers in order along the track), each within 0–5 ‰ of its span
+        length; between the droppers and the masts the target is the straight line through them.
+        None (the default): the parabola of ``presag_rel``. [m]
     damping : Damping or None
         Structural damping for dynamic analysis.
     provenance : dict
@@ -314,6 +321,7 @@ class Catenary:
     system_height: float = quantity("length", 0.2, 4.0)
     stagger: float = quantity("length", 0.0, 0.5, default=0.0)
     presag_rel: float = quantity("ratio", 0.0, 5.0, display="‰", default=0.0)
+    presag_profile: tuple[tuple[float, ...], ...] | None = None
     damping: Damping | None = None
     provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
 
@@ -336,14 +344,78 @@ class Catenary:
                 "stagger = 0 m on straight track leaves a steady arm without lateral pull (it would have no "
                 "vertical stiffness); give a stagger in (0, 0.5] m or use a spring support"
             )
+        if self.presag_profile is not None:
+            self._check_presag_profile()
+
+    def _check_presag_profile(self) -> None:
+        """Normalise the profile to tuples of floats; one depth per dropper of each span, each within
+        0–5 ‰ of its span length (the range of ``presag_rel``)."""
+        profile = tuple(tuple(float(d) for d in span) for span in self.presag_profile)
+        object.__setattr__(self, "presag_profile", profile)
+        lengths = self.layout.span_lengths
+        if len(profile) != len(lengths):
+            raise ModelError(f"presag_profile has {len(profile)} spans but the layout has {len(lengths)}")
+        high = Catenary.__dataclass_fields__["presag_rel"].metadata["quantity"]["high"] * 1e-3
+        for s, (depths, length) in enumerate(zip(profile, lengths)):
+            count = len(self.droppers.positions_in_span(length))
+            if len(depths) != count:
+                raise ModelError(f"presag_profile[{s}] has {len(depths)} depths but span {s} has {count} droppers")
+            for i, depth in enumerate(depths):
+                if not 0.0 <= depth <= high * length:  # also refuses NaN
+                    raise ModelError(
+                        f"presag_profile[{s}][{i}] = {depth * 1e3:g} mm is outside the valid range "
+                        f"[0, {high * length * 1e3:g}] mm (0–{high * 1e3:g} ‰ of the {length:g} m span)"
+                    )
 
     def presag_of_span(self, span: int) -> float:
         """Mid-span pre-sag of span ``span`` (from 0). [m]"""
         return self.presag_rel * self.layout.span_lengths[span]
 
     def with_presag(self, presag_rel: float) -> "Catenary":
-        """Copy with another relative pre-sag. [-]"""
-        return dataclasses.replace(self, presag_rel=presag_rel)
+        """Copy with a parabolic pre-sag of relative depth ``presag_rel`` (any profile dropped). [-]"""
+        return dataclasses.replace(self, presag_rel=presag_rel, presag_profile=None)
+
+    def with_presag_profile(self, depths) -> "Catenary":
+        """Copy with the contact wire at given depths below its support level at every dropper.
+
+        Parameters
+        ----------
+        depths : sequence of sequence of float
+            One sequence per span, one depth per dropper of that span (see :attr:`presag_profile`). [m]
+
+        Returns
+        -------
+        Catenary
+            With :attr:`presag_profile` set and :attr:`presag_rel` the profile's mean mid-span depth
+            over span length (a label; the geometry is the profile).
+        """
+        profile = tuple(tuple(float(d) for d in span) for span in depths)
+        shaped = dataclasses.replace(self, presag_profile=profile)  # checks the profile
+        lengths = self.layout.span_lengths
+        middle = [float(shaped.presag_depth(s, np.array([0.5 * length]))[0]) / length for s, length in enumerate(lengths)]
+        return dataclasses.replace(shaped, presag_rel=float(np.mean(middle)))
+
+    def presag_depth(self, span: int, positions: np.ndarray) -> np.ndarray:
+        """Target depth of the contact wire below its support level in a span. [m]
+
+        The parabola 4·S·t(1 − t), S = presag_rel·l, t = x/l; with a :attr:`presag_profile`, the
+        straight lines through the masts (depth 0) and the profile's depths at the droppers.
+
+        Parameters
+        ----------
+        span : int
+            Span, from 0.
+        positions : ndarray
+            Distances from the span's first mast, within [0, l]. [m]
+        """
+        length = self.layout.span_lengths[span]
+        x = np.asarray(positions, dtype=float)
+        if self.presag_profile is None:
+            t = x / length
+            return 4.0 * (self.presag_rel * length) * t * (1.0 - t)
+        drops = self.droppers.positions_in_span(length)
+        return np.interp(x, np.concatenate([[0.0], drops, [length]]),
+                         np.concatenate([[0.0], self.presag_profile[span], [0.0]]))
 
     def with_layout(self, layout: SpanLayout) -> "Catenary":
         """Copy with another span layout."""

@@ -30,13 +30,14 @@ from presag_opt.dynamics.simulate import Operation, SimulationSettings
 from presag_opt.dynamics.structure import StructureSettings
 from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
+from presag_opt.robust.dynamic_design import DynamicObjective, SearchSettings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
 from presag_opt.system.catenary import Catenary, Damping, Droppers, SpanLayout, SpringSupport, SteadyArm, Wire
 from presag_opt.system.loader import load_catenary
 
 EXAMPLES = 60
-"""Examples per class: 19 classes × 60 build in a few seconds; boundary cases come from Hypothesis'
+"""Examples per class: 21 classes × 60 build in a few seconds; boundary cases come from Hypothesis'
 own shrinking towards the range ends."""
 
 MIN_VALID_SHARE = 0.25
@@ -220,6 +221,16 @@ FUZZ = [
     _simple(PenaltyContact),
     _simple(FrictionRegularisation),
     _simple(Buildability, symmetric=st.booleans()),
+    _simple(DynamicObjective),
+    Fuzz(
+        SearchSettings,
+        _merge(
+            _ordered_pair(SearchSettings, "presag_low", "presag_high").filter(lambda d: d["presag_low"] < d["presag_high"]),
+            st.fixed_dictionaries({n: _inside(_spec(SearchSettings, n)) for n in ("presag_tolerance", "first_step")}),
+            st.fixed_dictionaries({"max_evaluations": st.integers(2, 100)}),
+        ),
+        ("presag_low", "presag_high", "presag_tolerance", "first_step"),
+    ),
     Fuzz(
         StudyGrid,
         st.fixed_dictionaries({

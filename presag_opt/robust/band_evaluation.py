@@ -1,0 +1,286 @@
+"""A parabolic pre-sag simulated over an operating grid: one form-finding, one batch of runs.
+
+:func:`simulate_band` form-finds the catenary at a pre-sag (with the discretisation every speed of
+the grid needs, :func:`~presag_opt.robust.operating_grid.band_static_settings`) and runs all points
+of the grid in one :func:`~presag_opt.dynamics.batch.simulate_many` call. :class:`BandEvaluator`
+keeps every pre-sag it simulated and counts the runs; several pre-sags asked for at once run side
+by side in worker processes. A :class:`BandEvaluation` holds the EN 50367 statistics of every point and the
+filtered contact force inside each run's analysis window, from which the surrogate of
+:mod:`presag_opt.robust.surrogate` interpolates other pre-sags. A run that fails stops the search
+with its reason: a design is never chosen around a missing run.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import time as wallclock
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from presag_opt.design.band import KMH
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.statistics import lowpass_filter, window_mask
+from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import form_find
+from presag_opt.system.catenary import Catenary
+
+OBJECTIVES = ("sigma-over-fm", "sigma")
+"""What a dynamic design minimises at each operating point: σ/F_m [-] or σ [N]."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class BandStatistics:
+    """Contact-force statistics of one pre-sag at every point of an operating grid.
+
+    Attributes
+    ----------
+    presag_rel : float
+        Relative pre-sag S_rel. [-]
+    mean_force : ndarray
+        F_m at each point, in the grid's order. [N]
+    sigma : ndarray
+        σ of the filtered contact force at each point. [N]
+    uplift_max : ndarray
+        Largest steady-arm uplift of the analysed section at each point. [m]
+    simulated : bool
+        From runs at this pre-sag (True) or interpolated by the surrogate (False).
+    """
+
+    presag_rel: float
+    mean_force: np.ndarray
+    sigma: np.ndarray
+    uplift_max: np.ndarray
+    simulated: bool = True
+
+    @property
+    def statistical_min(self) -> np.ndarray:
+        """F_m − 3σ at each point; contact is kept where it is positive. [N]"""
+        return self.mean_force - 3.0 * self.sigma
+
+    def losses(self, objective: str) -> np.ndarray:
+        """σ/F_m [-] or σ [N] at each point (see :data:`OBJECTIVES`)."""
+        if objective not in OBJECTIVES:
+            raise ModelError(f"objective = {objective!r} is not one of {', '.join(OBJECTIVES)}")
+        return self.sigma / self.mean_force if objective == "sigma-over-fm" else self.sigma
+
+
+@dataclass(frozen=True, kw_only=True)
+class BandEvaluation:
+    """One simulated pre-sag: statistics, the histories behind them, and what it cost.
+
+    Attributes
+    ----------
+    statistics : BandStatistics
+        Statistics at every point (``simulated`` True).
+    histories : tuple of ndarray
+        Filtered contact force of the leading pantograph inside each run's analysis window, in the
+        grid's order: F_m and σ are their mean and standard deviation. [N]
+    loss_of_contact : ndarray
+        Share of each run's window without contact (raw force). [-]
+    wall_time : float
+        Form-finding and simulation. [s]
+    warnings : tuple of str
+        Under-resolution warnings of the runs.
+    """
+
+    statistics: BandStatistics
+    histories: tuple[np.ndarray, ...]
+    loss_of_contact: np.ndarray
+    wall_time: float
+    warnings: tuple[str, ...] = ()
+
+
+def simulate_band(
+    catenary: Catenary,
+    pantograph: Pantograph,
+    grid: OperatingGrid,
+    settings: SimulationSettings,
+    static_settings: StaticSettings,
+    presag_rel: float,
+    progress: Callable[[str], None] | None = None,
+) -> BandEvaluation:
+    """Form-find one parabolic pre-sag and run every point of the grid in one batch.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model (its pre-sag is replaced by ``presag_rel``).
+    pantograph : Pantograph
+        Pantograph model.
+    grid : OperatingGrid
+        The operating points (checked beforehand, see :meth:`OperatingGrid.check`).
+    settings : SimulationSettings
+        Numerical settings of the runs.
+    static_settings : StaticSettings
+        Settings of the form-finding (:func:`~presag_opt.robust.operating_grid.band_static_settings`).
+    presag_rel : float
+        Relative pre-sag S_rel. [-]
+    progress : callable, optional
+        Called with a short message before the form-finding and after each batch of runs.
+
+    Raises
+    ------
+    ModelError
+        The pre-sag is outside the model's range (0–5 ‰).
+    ConvergenceError
+        The form-finding or a run failed; the message names the pre-sag and the point.
+    """
+    started = wallclock.perf_counter()
+    label = f"S = {presag_rel * max(catenary.layout.span_lengths) * 1e3:.1f} mm"
+    shaped = catenary.with_presag(presag_rel)
+    if progress:
+        progress(f"{label}: form-finding")
+    try:
+        state = form_find(shaped, static_settings)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
+                               f"{str(exc).splitlines()[0]}", exc.stats) from None
+    points = grid.points()
+    done = [0]
+
+    def finished(count: int) -> None:
+        done[0] += count
+        if progress:
+            progress(f"{label}: {done[0]}/{len(points)} runs")
+
+    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True, progress=finished)
+    histories, loss = [], []
+    for run in batch.runs:
+        if not run.ok:
+            p = run.point
+            raise ConvergenceError(
+                f"dynamic robust pre-sag: the run at {label}, {p.speed / KMH:g} km/h, F_stat {p.static_force:g} N "
+                f"failed: {run.error}", {"presag_rel": presag_rel, "error": run.error})
+        stats = run.statistics[0]
+        filtered = lowpass_filter(run.time, run.contact_force[:, 0], cutoff=settings.cutoff_frequency)
+        histories.append(filtered[window_mask(run.time, stats.window_start, stats.window_end,
+                                              settings.cutoff_frequency)])
+        loss.append(stats.loss_of_contact)
+    return BandEvaluation(
+        statistics=BandStatistics(
+            presag_rel=presag_rel,
+            mean_force=np.array([np.mean(h) for h in histories]),
+            sigma=np.array([np.std(h) for h in histories]),
+            uplift_max=np.array([run.uplift_max for run in batch.runs]),
+        ),
+        histories=tuple(histories),
+        loss_of_contact=np.array(loss),
+        wall_time=wallclock.perf_counter() - started,
+        warnings=tuple(dict.fromkeys(w for run in batch.runs for w in run.warnings)),
+    )
+
+
+class BandEvaluator:
+    """Simulates parabolic pre-sags over an operating grid, each pre-sag once.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model (its pre-sag is replaced by each evaluated one).
+    pantograph : Pantograph
+        Pantograph model.
+    grid : OperatingGrid
+        The operating points; checked against the catenary here, before any work.
+    settings : SimulationSettings, optional
+        Numerical settings; default automatic numerics (element length and time step from the speed).
+    workers : int
+        Processes that simulate pre-sags side by side when several are asked for at once
+        (:meth:`evaluate_many`); 1 simulates in this process. [-]
+    progress : callable, optional
+        Called with a short message before each form-finding and after each batch of runs.
+
+    Attributes
+    ----------
+    evaluations : dict
+        S_rel -> :class:`BandEvaluation`, in the order simulated.
+    runs_used : int
+        Simulation runs so far. [-]
+    """
+
+    def __init__(
+        self,
+        catenary: Catenary,
+        pantograph: Pantograph,
+        grid: OperatingGrid,
+        *,
+        settings: SimulationSettings | None = None,
+        workers: int = 1,
+        progress: Callable[[str], None] | None = None,
+    ):
+        if workers != int(workers) or not 1 <= workers <= 64:
+            raise ModelError(f"workers = {workers} is outside the valid range [1, 64]")
+        self.catenary = catenary
+        self.pantograph = pantograph
+        self.grid = grid
+        self.settings = settings or SimulationSettings(numerics="auto")
+        grid.check(catenary, pantograph, self.settings)
+        self.static_settings = band_static_settings(catenary, grid.speeds, self.settings)
+        self.workers = int(workers)
+        self.progress = progress
+        self.evaluations: dict[float, BandEvaluation] = {}
+        self.runs_used = 0
+
+    @property
+    def reference_span(self) -> float:
+        """Span the pre-sag is quoted on: the longest. [m]"""
+        return float(max(self.catenary.layout.span_lengths))
+
+    def __call__(self, presag_rel: float) -> BandEvaluation:
+        """Simulate one pre-sag over the grid (or return it if simulated before); see
+        :func:`simulate_band` for what it raises.
+
+        Parameters
+        ----------
+        presag_rel : float
+            Relative pre-sag S_rel. [-]
+        """
+        return self.evaluate_many([presag_rel])[0]
+
+    def evaluate_many(self, presags) -> list[BandEvaluation]:
+        """Simulate several pre-sags (those not simulated before), side by side in up to
+        :attr:`workers` processes; see :func:`simulate_band` for what it raises.
+
+        Parameters
+        ----------
+        presags : sequence of float
+            Relative pre-sags S_rel. [-]
+
+        Returns
+        -------
+        list of BandEvaluation
+            One per pre-sag, in order.
+        """
+        presags = [float(s) for s in presags]
+        new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
+        common = (self.catenary, self.pantograph, self.grid, self.settings, self.static_settings)
+        if self.workers > 1 and len(new) > 1:
+            span = self.reference_span
+            count = min(self.workers, len(new))
+            if self.progress:
+                self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
+            # spawn, not fork: the command line's progress display runs a thread
+            pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+            try:
+                futures = [pool.submit(simulate_band, *common, s) for s in new]
+                results = [f.result() for f in futures]
+            except BaseException:
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
+            pool.shutdown(wait=True)
+            for s, evaluation in zip(new, results):
+                self._keep(s, evaluation)
+        else:
+            for s in new:
+                self._keep(s, simulate_band(*common, s, progress=self.progress))
+        return [self.evaluations[s] for s in presags]
+
+    def _keep(self, presag_rel: float, evaluation: BandEvaluation) -> None:
+        self.evaluations[presag_rel] = evaluation
+        self.runs_used += len(self.grid.static_forces) * len(self.grid.speeds)

@@ -1,0 +1,300 @@
+"""The job behind ``presag robust --dynamic``: quasi-static and dynamic designs of a band of static
+forces × speeds, compared by simulation, and which one to trust there.
+
+:func:`dynamic_robust_study` checks the band against the catenary, runs the quasi-static study of
+its mean-force band (:func:`~presag_opt.robust.study.robust_study`: the Δe rule at the band centre
+and the quasi-static robust parabola), starts the dynamic search
+(:func:`~presag_opt.robust.dynamic_design.dynamic_robust_presag`) from those two pre-sags — so both
+are simulated on the band's grid anyway — and compares the three designs: objective, worst case and
+mean of the loss, largest steady-arm uplift and the wall time each method costs. The recommendation
+follows from the simulation, not from the speed alone: the quasi-static robust design is enough
+where it lies inside the dynamic tolerance interval and keeps the limits; elsewhere the dynamic
+design is the one to build. The speed ratio β and the paper's validity limit are reported beside it.
+"""
+
+from __future__ import annotations
+
+import time as wallclock
+from dataclasses import dataclass
+
+import numpy as np
+
+from presag_opt.design.band import KMH, OperatingBand
+from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT, speed_context
+from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
+from presag_opt.robust.dynamic_design import (
+    DynamicObjective,
+    DynamicRobustDesign,
+    DynamicTolerance,
+    SearchSettings,
+    band_curve,
+    dynamic_robust_presag,
+    dynamic_tolerance,
+)
+from presag_opt.robust.operating_grid import OperatingGrid
+from presag_opt.robust.scenarios import Risk
+from presag_opt.robust.study import robust_study
+from presag_opt.errors import ModelError
+from presag_opt.system.catenary import Catenary
+
+DELTA_E, QUASI_STATIC, DYNAMIC = "Δe rule at band centre", "quasi-static robust", "dynamic robust"
+"""The three methods compared."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class MethodResult:
+    """One design method on the band, by simulation.
+
+    Attributes
+    ----------
+    method : str
+        :data:`DELTA_E`, :data:`QUASI_STATIC` or :data:`DYNAMIC`.
+    presag_rel : float
+        Its relative pre-sag. [-]
+    objective : float
+        The risk measure of the loss over the grid. [- or N]
+    worst_case, mean : float
+        Largest and weighted mean loss over the grid. [- or N]
+    uplift_max : float
+        Largest steady-arm uplift over the grid. [m]
+    cost : float
+        Wall time of the method: the quasi-static study for both quasi-static designs (they come
+        from one), that study and the simulations for the dynamic one. [s]
+    within_tolerance : bool
+        Whether it lies inside the dynamic tolerance interval and keeps the limits.
+    """
+
+    method: str
+    presag_rel: float
+    objective: float
+    worst_case: float
+    mean: float
+    uplift_max: float
+    cost: float
+    within_tolerance: bool
+
+
+@dataclass(frozen=True, kw_only=True)
+class DynamicRobustStudy:
+    """Quasi-static and dynamic designs of one band, compared by simulation.
+
+    Attributes
+    ----------
+    catenary_name, pantograph_name : str
+        The models.
+    band : OperatingBand
+        Static forces and speeds. [N], [m/s]
+    beta : tuple of float
+        Speed ratio v/c_CW at the ends of the speed band. [-]
+    design : DynamicRobustDesign
+        The dynamic design and the search's cost.
+    tolerance : DynamicTolerance
+        Its installation tolerance, by simulation.
+    curve : tuple of ndarray
+        S_rel [-], objective and worst case [- or N] on the surrogate through every simulated
+        pre-sag (see :func:`~presag_opt.robust.dynamic_design.band_curve`).
+    simulated : tuple of BandStatistics
+        Every simulated pre-sag (search, tolerance ends, compared designs), in the order simulated.
+    runs_used : int
+        All simulation runs of the study. [-]
+    wall_time : float
+        The whole study: quasi-static designs, search, tolerance, comparison. [s]
+    methods : tuple of MethodResult
+        Δe rule, quasi-static robust, dynamic robust.
+    recommendation : str
+        The method to build from (:data:`QUASI_STATIC` or :data:`DYNAMIC`).
+    reason : str
+        Why, in one sentence.
+    uplift_limit : float
+        Steady-arm uplift limit. [m]
+    """
+
+    catenary_name: str
+    pantograph_name: str
+    band: OperatingBand
+    beta: tuple[float, float]
+    design: DynamicRobustDesign
+    tolerance: DynamicTolerance
+    curve: tuple[np.ndarray, np.ndarray, np.ndarray]
+    simulated: tuple[BandStatistics, ...]
+    runs_used: int
+    wall_time: float
+    methods: tuple[MethodResult, ...]
+    recommendation: str
+    reason: str
+    uplift_limit: float
+
+    def method(self, name: str) -> MethodResult:
+        """The result of one method by name."""
+        return next(m for m in self.methods if m.method == name)
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary in mm, N, km/h and s."""
+        d, span = self.design, self.design.reference_span
+        weights, risk = d.grid.weights, Risk.parse(d.risk)
+        return {
+            "catenary": self.catenary_name,
+            "pantograph": self.pantograph_name,
+            **self.band.to_dict(),
+            "beta": list(self.beta),
+            "grid": {"static_forces_N": list(d.grid.static_forces),
+                     "speeds_kmh": [v / KMH for v in d.grid.speeds]},
+            "objective_name": d.loss,
+            "risk": d.risk,
+            "reference_span_m": span,
+            "presag_mm": d.presag * 1e3,
+            "presag_rel_permille": d.presag_rel * 1e3,
+            "objective": d.objective,
+            "worst_case_objective": d.worst_case_objective,
+            "mean_objective": float(weights @ d.statistics.losses(d.loss)),
+            "uplift_max_mm": d.uplift_max * 1e3,
+            "uplift_limit_mm": self.uplift_limit * 1e3,
+            "statistical_min_N": float(d.statistics.statistical_min.min()),
+            "tolerance_mm": [self.tolerance.low * span * 1e3, self.tolerance.high * span * 1e3],
+            "tolerance_within": self.tolerance.within,
+            "quasi_static_presag_mm": self.method(QUASI_STATIC).presag_rel * span * 1e3,
+            "delta_e_presag_mm": self.method(DELTA_E).presag_rel * span * 1e3,
+            "runs_used": self.runs_used,
+            "search_runs": d.runs_used,
+            "tolerance_runs": self.tolerance.runs_used,
+            "presags_simulated": len(self.simulated),
+            "search_time_s": d.wall_time,
+            "wall_time_s": self.wall_time,
+            "methods": [{
+                "method": m.method,
+                "presag_mm": m.presag_rel * span * 1e3,
+                "objective": m.objective,
+                "worst_case_objective": m.worst_case,
+                "mean_objective": m.mean,
+                "uplift_max_mm": m.uplift_max * 1e3,
+                "cost_s": m.cost,
+                "within_tolerance": m.within_tolerance,
+            } for m in self.methods],
+            "recommendation": {"method": self.recommendation, "reason": self.reason},
+            "simulated": [{
+                "presag_mm": s.presag_rel * span * 1e3,
+                "objective": risk.value(s.losses(d.loss), weights),
+                "worst_case_objective": float(s.losses(d.loss).max()),
+                "uplift_max_mm": float(s.uplift_max.max() * 1e3),
+            } for s in self.simulated],
+            "warnings": list(d.warnings),
+        }
+
+
+def dynamic_robust_study(
+    catenary: Catenary,
+    pantograph: Pantograph,
+    band: OperatingBand,
+    *,
+    objective: DynamicObjective | None = None,
+    within: float = 0.10,
+    static_points: int = 4,
+    speed_points: int = 3,
+    settings: SimulationSettings | None = None,
+    search: SearchSettings | None = None,
+    workers: int = 1,
+    progress=None,
+) -> DynamicRobustStudy:
+    """Design the pre-sag of a band of static forces × speeds quasi-statically and dynamically.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model.
+    pantograph : Pantograph
+        Pantograph model.
+    band : OperatingBand
+        Static force and speed band (speeds above 0 and below the wave speed). [N], [m/s]
+    objective : DynamicObjective, optional
+        Loss, risk measure and steady-arm uplift limit (default: worst case of σ/F_m, 83.5 mm).
+    within : float
+        Allowed loss τ of the tolerance interval. [-]
+    static_points, speed_points : int
+        Grid points along each axis of the band. [-]
+    settings : SimulationSettings, optional
+        Numerical settings of the runs; default automatic numerics.
+    search : SearchSettings, optional
+        Range and resolution of the search.
+    workers : int
+        Processes that simulate pre-sags side by side (the two starts, the two tolerance ends). [-]
+    progress : callable, optional
+        Called with a short message before each expensive step.
+
+    Raises
+    ------
+    ModelError
+        Bad input (empty or inverted band, a speed at or above the wave speed, a point the
+        simulator refuses), all before any work; or no pre-sag in range keeps the limits.
+    ConvergenceError
+        A form-finding or a run failed during the search.
+    """
+    objective = objective or DynamicObjective()
+    grid = OperatingGrid.from_band(band, static_points=static_points, speed_points=speed_points)
+    evaluator = BandEvaluator(catenary, pantograph, grid, settings=settings, workers=workers, progress=progress)
+    context = speed_context(catenary.contact_wire, band.speed_low, band.speed_high)
+    if not 0.0 < within <= 2.0:
+        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    started = wallclock.perf_counter()
+    quasi = robust_study(catenary, grid.mean_force_band, within=within, progress=progress)
+    quasi_cost = wallclock.perf_counter() - started
+    starts = (quasi.robust_parabola.presag_rel, quasi.nominal.presag_rel)
+    design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
+    tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
+    weights = grid.weights
+    methods = []
+    for name, presag_rel, cost in ((DELTA_E, starts[1], quasi_cost), (QUASI_STATIC, starts[0], quasi_cost),
+                                   (DYNAMIC, design.presag_rel, quasi_cost + design.wall_time + tolerance.wall_time)):
+        stats = evaluator(presag_rel).statistics
+        losses = stats.losses(objective.loss)
+        methods.append(MethodResult(
+            method=name, presag_rel=presag_rel, objective=objective.value(stats, weights),
+            worst_case=float(losses.max()), mean=float(weights @ losses), uplift_max=float(stats.uplift_max.max()),
+            cost=cost, within_tolerance=bool(tolerance.low <= presag_rel <= tolerance.high and objective.feasible(stats)),
+        ))
+    recommendation, reason = _recommend(methods, tolerance, context.beta_max, quasi_cost, design.uplift_limit,
+                                        design.reference_span)
+    return DynamicRobustStudy(
+        catenary_name=catenary.name,
+        pantograph_name=pantograph.name,
+        band=band,
+        beta=(context.beta_low, context.beta_max),
+        design=design,
+        tolerance=tolerance,
+        curve=band_curve(evaluator, objective),
+        simulated=tuple(e.statistics for e in evaluator.evaluations.values()),
+        runs_used=evaluator.runs_used,
+        wall_time=wallclock.perf_counter() - started,
+        methods=tuple(methods),
+        recommendation=recommendation,
+        reason=reason,
+        uplift_limit=objective.uplift_limit,
+    )
+
+
+def _recommend(methods: list[MethodResult], tolerance: DynamicTolerance, beta_max: float, quasi_cost: float,
+               uplift_limit: float, span: float) -> tuple[str, str]:
+    """The method to trust at this band, and why (one sentence)."""
+    quasi, dynamic = methods[1], methods[2]
+    regime = (f"β ≤ {beta_max:.2f}, inside the quasi-static validity limit {QUASI_STATIC_BETA_LIMIT:g}"
+              if beta_max <= QUASI_STATIC_BETA_LIMIT else
+              f"β up to {beta_max:.2f}, above the quasi-static validity limit {QUASI_STATIC_BETA_LIMIT:g}")
+    excess = quasi.worst_case / dynamic.worst_case - 1.0
+    if quasi.within_tolerance:
+        return QUASI_STATIC, (
+            f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm, {quasi_cost:.0f} s) lies inside "
+            f"the dynamic tolerance interval; its worst case is {100 * excess:+.1f} % from the dynamic design's "
+            f"({regime})"
+        )
+    if quasi.uplift_max > uplift_limit:
+        return DYNAMIC, (
+            f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm) lifts the steady arms by "
+            f"{quasi.uplift_max * 1e3:.1f} mm, above the {uplift_limit * 1e3:g} mm limit the dynamic design keeps "
+            f"({regime})"
+        )
+    return DYNAMIC, (
+        f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm) lies outside the dynamic "
+        f"tolerance interval {tolerance.low * span * 1e3:.1f}–{tolerance.high * span * 1e3:.1f} mm; its worst case "
+        f"is {100 * excess:+.1f} % from the dynamic design's ({regime})"
+    )
