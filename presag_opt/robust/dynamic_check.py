@@ -20,7 +20,7 @@ from presag_opt.design.band import KMH
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.simulate import SimulationSettings
-from presag_opt.errors import ConvergenceError
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.operating_grid import band_static_settings
 from presag_opt.robust.path import PathModel
 from presag_opt.static.equilibrium import form_find
@@ -124,6 +124,11 @@ def design_catenary(catenary: Catenary, path: PathModel, depths: np.ndarray) -> 
         :attr:`~presag_opt.robust.lp.RobustDesign.depths`. [m]
     """
     lengths = catenary.layout.span_lengths
+    if max(int(s) for s in path.spans) >= len(lengths):
+        raise ModelError(
+            f"the design is of spans up to {max(int(s) for s in path.spans) + 1} but {catenary.name!r} has "
+            f"{len(lengths)}: build it into the catenary it was designed for"
+        )
     designed = {int(s): np.flatnonzero(path.dropper_span == s) for s in path.spans}
     profile = []
     for s, length in enumerate(lengths):

@@ -9,6 +9,7 @@ import pytest
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.dynamics.simulate import SimulationSettings, simulate
+from presag_opt.errors import ModelError
 from presag_opt.robust import dynamic_check
 from presag_opt.robust.dynamic_check import design_catenary
 from presag_opt.static.equilibrium import form_find
@@ -81,3 +82,12 @@ def test_a_mixed_section_scales_the_nearest_designed_span(short_mixed):
         drops = short_mixed.droppers.positions_in_span(lengths[s]) / lengths[s]
         expected = np.interp(drops, t_source, relative) * lengths[s]
         np.testing.assert_allclose(built.presag_profile[s], expected, rtol=1e-12)
+
+
+def test_a_design_built_into_another_catenary_is_refused(path):
+    """A per-dropper design belongs to the catenary it was designed for: a shorter section is refused
+    with the reason, not an IndexError."""
+    catenary = path.state.catenary
+    short = catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 3))
+    with pytest.raises(ModelError, match="build it into the catenary it was designed for"):
+        design_catenary(short, path, path.parabola_depths(0.001))
