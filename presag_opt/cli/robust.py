@@ -230,7 +230,8 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
     fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
     print(f"Dynamic robust pre-sag: {study.catenary_name}, {study.pantograph_name}")
-    print(f"band: F_stat {f_low:g}–{f_high:g} N × {v_low:g}–{v_high:g} km/h (β {data['beta'][0]:.2f}–{data['beta'][1]:.2f}), "
+    beta_low, beta_high = data["beta"]
+    print(f"band: F_stat {f_low:g}–{f_high:g} N × {v_low:g}–{v_high:g} km/h (β {beta_low:.2f}–{beta_high:.2f}), "
           f"{int(points[0])} × {int(points[1])} simulated points; objective: {data['risk']} of {loss}; "
           f"uplift limit {data['uplift_limit_mm']:g} mm")
     rows = [(m["method"], m["presag_mm"], m["objective"], m["worst_case_objective"], m["mean_objective"],
@@ -241,7 +242,7 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     low, high = data["tolerance_mm"]
     print(f"\nInstallation tolerance (worst case within {100 * within:g} % of its minimum): {low:.1f}–{high:.1f} mm")
     print(f"Simulation: {data['runs_used']} runs at {data['presags_simulated']} pre-sags "
-          f"(search {data['search_runs']} runs, {data['search_time_s']:.0f} s; with the tolerance {data['wall_time_s']:.0f} s)")
+          f"(search {data['search_runs']} runs, {data['search_time_s']:.0f} s; whole study {data['wall_time_s']:.0f} s)")
     print(f"Recommendation: build the {data['recommendation']['method']} design — {data['recommendation']['reason']}")
     if plot:
         print(f"Plot saved to {written}")

@@ -4,7 +4,8 @@ A synthetic evaluator stands in for the simulator: at grid point k the "filtered
 F_m,k + A_k(S)·√2 sin(ω t) + B_k·√2 sin(3ω t) over whole periods, so σ_k(S)² = A_k(S)² + B_k², with
 A_k cubic in S (the history surrogate, exact only for affine A_k, has to earn its answer) and a
 steady-arm uplift falling linearly with S. The slopes put the worst case's rise at about 1 %/mm on
-either side of its minimum, as on the case study (0.5–1.4 %/mm between 30, 45 and 60 mm). Brute force evaluates the same functions on a 0.01 mm grid.
+either side of its minimum, as on the case study (0.5–1.4 %/mm between 30, 45 and 60 mm). Brute force
+evaluates the same functions on a 0.05 mm grid.
 The search against the real simulator is tested in ``test_dynamic_search.py``.
 """
 
@@ -143,7 +144,8 @@ def test_an_uplift_limit_no_presag_meets_names_the_smallest_uplift():
 
 def test_a_band_without_contact_is_refused():
     evaluator = SyntheticEvaluator(floor=FLOOR * 10.0)  # σ ≥ 55 N at 70 N: F_m − 3σ ≤ −95 N for every S
-    with pytest.raises(ModelError, match=r"keeps contact \(F_m - 3 sigma > 0\).*largest F_m - 3 sigma reached is -95\.0 N \(at S = 4[56]\.\d mm\)"):
+    words = r"keeps contact \(F_m - 3 sigma > 0\).*largest F_m - 3 sigma reached is -95\.0 N \(at S = 4[56]\.\d mm\)"
+    with pytest.raises(ModelError, match=words):
         dynamic_robust_presag(evaluator, DynamicObjective(uplift_limit=0.1), starts=(0.0558 / SPAN, 0.0614 / SPAN))
 
 

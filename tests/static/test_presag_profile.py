@@ -79,7 +79,8 @@ def test_with_presag_drops_a_profile(three_spans):
 @pytest.mark.parametrize("change,words", [
     (lambda d: d[:2], "presag_profile has 2 spans but the layout has 3"),
     (lambda d: [d[0], d[1][:-1], d[2]], "presag_profile[1] has 6 depths but span 1 has 7 droppers"),
-    (lambda d: [d[0], d[1], (*d[2][:3], 0.31, *d[2][4:])], "presag_profile[2][3] = 310 mm is outside the valid range [0, 300] mm"),
+    (lambda d: [d[0], d[1], (*d[2][:3], 0.31, *d[2][4:])],
+     "presag_profile[2][3] = 310 mm is outside the valid range [0, 300] mm"),
     (lambda d: [d[0], (-0.001, *d[1][1:]), d[2]], "presag_profile[1][0] = -1 mm is outside the valid range"),
     (lambda d: [d[0], d[1], (float("nan"), *d[2][1:])], "presag_profile[2][0] = nan mm is outside the valid range"),
 ])
