@@ -28,7 +28,6 @@ import tempfile
 import time
 from pathlib import Path
 
-
 REQUIRED_S = 600.0
 """Largest wall time allowed for the 400-run grid. [s]"""
 

@@ -19,11 +19,16 @@ import scipy.sparse as sp
 
 from presag_opt.dynamics import batch_newton, kernel, native_sweeps
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, recorded_droppers, static_contact
+from presag_opt.dynamics.simulate import (
+    RunPlan,
+    SimulationSettings,
+    recorded_droppers,
+    static_contact,
+)
 from presag_opt.dynamics.structure import StructuralModel
-from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.static.linalg import BandedSolver
 
 CHUNK_STEPS = 250

@@ -33,13 +33,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presag_opt.static.kernels import backward_substitution
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
     newton_step,
     nonlinear_forces,
 )
+from presag_opt.static.kernels import backward_substitution
 
 SHARED = (
     "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",

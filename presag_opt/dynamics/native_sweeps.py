@@ -3,17 +3,17 @@
 :func:`presag_opt.dynamics.kernel.advance` spends nearly all of a step in three sweeps over the
 catenary's DOFs. Written in numba, each run keeps its accumulator in memory, and the
 load-add-store chain through it costs about 15 processor cycles per band entry however many runs
-share the step: a 12-run step of the case study (8 502 DOFs, bandwidth 20) took 4.2 ms, a 1-run step
-2.7 ms. ``sweeps.c`` does the same operations in the same order with the runs in blocks of eight
+share the step: a 12-run step of the case study (8 502 DOFs, bandwidth 20) takes 4.5 ms, a 1-run step
+2.3 ms. ``sweeps.c`` does the same operations in the same order with the runs in blocks of eight
 whose accumulators stay in vector registers; it gives the same numbers to the last bit
-(``tests/dynamics/test_native_sweeps.py``) and runs the step several times faster
-(``benchmarks/bench_batch.py``).
+(``tests/dynamics/test_native_sweeps.py``) and takes 2.3 ms for the 12-run step, 1.4 ms for the
+1-run step (``benchmarks/bench_batch.py`` compares whole batches: about 2.2 times faster).
 
-The library is built once per machine by :func:`presag_opt.native.build` (``-O3 -march=native
--ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and loaded into
-the process, and the numba kernel :func:`advance` calls its functions by name; numba caches that
-kernel like the others. Without a compiler, or with ``PRESAG_NO_COMPILE=1``, :func:`available` is
-False and the simulator uses :func:`presag_opt.dynamics.kernel.advance`.
+The library is built once per machine by :func:`presag_opt.static.native.build` (``-O3
+-march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
+loaded into the process, and the numba kernel :func:`advance` calls its functions by name; numba
+caches that kernel like the others. Without a compiler, or with ``PRESAG_NO_COMPILE=1``,
+:func:`available` is False and the simulator uses :func:`presag_opt.dynamics.kernel.advance`.
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
 the padding lanes are swept too and never read.
@@ -26,8 +26,8 @@ from pathlib import Path
 
 from numba import njit, types
 
-from presag_opt import native
 from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step
+from presag_opt.static import native
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""

@@ -13,10 +13,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from presag_opt import native
 from presag_opt.dynamics import native_sweeps
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.case import load_case
+from presag_opt.static import native
 from presag_opt.static.equilibrium import form_find
 from presag_opt.system.catenary import SpanLayout
 
