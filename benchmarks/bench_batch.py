@@ -2,9 +2,11 @@
 
 Measures on this machine, in one run so the ratios are side by side:
 
-1. the single-run path (``simulate``) and the batch engine (``simulate_many``) on the same 10 runs of
-   the paper's grid (S = 30 mm, 50–180 km/h, F_stat 95 N) — wall time per run and the ratio, and
-   the largest relative difference of σ between the two paths;
+1. the batch engine (``simulate_many``) on 10 runs of the paper's grid (S = 30 mm, 50–180 km/h,
+   F_stat 95 N) with its compiled sweeps and with its numba kernel, alternately (median of N each,
+   the ratio, and whether the statistics are identical); then the single-run path (``simulate``) on
+   the same runs — wall time per run and the ratio, and the largest relative difference of σ
+   between the two paths;
 2. peak memory of one 80-run batch (S = 30 mm, all speeds × all static forces), in a fresh process;
 3. the paper's 400-run grid (ST 9,8/9,8 ideal spans, case-study pantograph, S 30–70 mm × 10 speeds ×
    8 static forces, the paper's 0.5 m / 2 ms) through ``presag sweep``'s runner with 1 and 2 worker
@@ -25,7 +27,6 @@ import sys
 import tempfile
 import time
 from pathlib import Path
-
 
 REQUIRED_S = 600.0
 """Largest wall time allowed for the 400-run grid. [s]"""
@@ -50,6 +51,7 @@ def _case_and_state(presag_mm: float = 30.0):
 
 
 def side_by_side(repeat: int) -> None:
+    from presag_opt.dynamics import native_sweeps
     from presag_opt.dynamics.batch import OperatingPoint, simulate_many
     from presag_opt.dynamics.simulate import simulate
 
@@ -57,20 +59,42 @@ def side_by_side(repeat: int) -> None:
     aero = case.operation.aero_coefficient
     speeds = [50, 60, 70, 80, 90, 100, 120, 140, 160, 180]
     points = [OperatingPoint(speed=v / 3.6, static_force=95.0, aero_coefficient=aero) for v in speeds]
-    simulate_many(state, case.pantograph, points[-1:], settings=settings)  # compile and warm up
-    batch_times, single_times = [], []
-    for _ in range(repeat):
-        started = time.perf_counter()
-        batch = simulate_many(state, case.pantograph, points, settings=settings)
-        batch_times.append(time.perf_counter() - started)
+    compiled = native_sweeps.available()
+    builds = {"compiled sweeps": native_sweeps.available, "numba kernel": lambda: False}
+    if not compiled:
+        print("no compiled sweeps on this machine (no C compiler or PRESAG_NO_COMPILE): numba kernel only")
+        del builds["compiled sweeps"]
+    times: dict[str, list[float]] = {name: [] for name in builds}
+    results = {}
+    try:
+        for name, switch in builds.items():  # compile and warm up
+            native_sweeps.available = switch
+            simulate_many(state, case.pantograph, points[-1:], settings=settings)
+        for _ in range(repeat):  # alternate, so that both see the same machine
+            for name, switch in builds.items():
+                native_sweeps.available = switch
+                started = time.perf_counter()
+                results[name] = simulate_many(state, case.pantograph, points, settings=settings)
+                times[name].append(time.perf_counter() - started)
+    finally:
+        native_sweeps.available = builds.get("compiled sweeps", native_sweeps.available)
+    medians = {name: statistics.median(t) for name, t in times.items()}
+    for name, wall in medians.items():
+        print(f"10 runs (S 30 mm, 95 N, 50-180 km/h), one batch, {name}: {wall:.1f} s (median of {repeat}; "
+              f"{', '.join(f'{t:.1f}' for t in times[name])})")
+    if compiled:
+        same = all(a.statistics == b.statistics and a.uplift_max == b.uplift_max
+                   for a, b in zip(results["compiled sweeps"].runs, results["numba kernel"].runs))
+        print(f"compiled sweeps / numba kernel: {medians['numba kernel'] / medians['compiled sweeps']:.2f}x faster; "
+              f"statistics identical: {same}")
+    batch_s = min(medians.values())
+    batch = results[min(medians, key=medians.get)]
     started = time.perf_counter()
     singles = [simulate(state, case.pantograph, speed=p.speed, static_force=p.static_force, aero_coefficient=aero,
                         settings=settings) for p in points]
-    single_times.append(time.perf_counter() - started)
-    batch_s, single_s = statistics.median(batch_times), statistics.median(single_times)
+    single_s = time.perf_counter() - started
     diff = max(abs(b.statistics[0].std_force / s.statistics.std_force - 1.0) for b, s in zip(batch.runs, singles))
-    print(f"10 runs (S 30 mm, 95 N, 50-180 km/h): batch {batch_s:.1f} s (median of {repeat}), "
-          f"single-run path {single_s:.1f} s (once) -> {single_s / batch_s:.1f}x; "
+    print(f"batch {batch_s:.1f} s against the single-run path {single_s:.1f} s (once) -> {single_s / batch_s:.1f}x; "
           f"per run {batch_s / 10:.2f} s vs {single_s / 10:.2f} s; largest σ difference {diff:.1e}")
 
 

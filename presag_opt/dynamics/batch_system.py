@@ -17,13 +17,18 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import batch_newton, kernel
+from presag_opt.dynamics import batch_newton, kernel, native_sweeps
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, recorded_droppers, static_contact
+from presag_opt.dynamics.simulate import (
+    RunPlan,
+    SimulationSettings,
+    recorded_droppers,
+    static_contact,
+)
 from presag_opt.dynamics.structure import StructuralModel
-from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.kernels import banded_cholesky_solve
 from presag_opt.static.linalg import BandedSolver
 
 CHUNK_STEPS = 250
@@ -198,7 +203,9 @@ def integrate_batch(
     path_weights = np.zeros((n_runs, n_pan, longest + 1, 2))
     path_compliance = np.zeros((n_runs, n_pan, longest + 1))
     head_height = np.zeros((n_runs, n_pan))
-    u = np.zeros((n, n_runs))
+    compiled = native_sweeps.available()
+    lanes = native_sweeps.lanes_for(n_runs) if compiled else n_runs  # run dimension of the swept arrays
+    u = np.zeros((n, lanes))
     for b, plan in enumerate(plans):
         records = slice(0, n_steps[b] + 1)
         u0, paths = static_contact(state, model, plan, dt * np.arange(n_steps[b] + 1))
@@ -238,12 +245,12 @@ def integrate_batch(
         candidate_rows=candidates.astype(np.int64),
         support_row=support_row,
     )
-    shared = tuple(shared[name] for name in kernel.SHARED)
+    shared = tuple(np.ascontiguousarray(shared[name]) for name in kernel.SHARED)  # C order, as sweeps.c reads
     uplift = np.array([p.operation.uplift_force for p in plans])
     runs = (n_steps, path_nodes, path_weights, path_compliance, head_height, uplift)
     n_p = len(fixed["pantograph_mass"])
     # u, v, q = u + β_R v, r for the catenary; u, v, a, r for the pantographs (see kernel.advance).
-    run_state = (u, np.zeros((n, n_runs)), np.zeros((n, n_runs)), np.zeros((n, n_runs)),
+    run_state = (u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
                  *(np.zeros((n_p, n_runs)) for _ in range(4)))
     records = BatchRecords(
         n_steps=n_steps,
@@ -258,11 +265,12 @@ def integrate_batch(
     out = (records.contact_force, records.uplift_max, records.slack_max, records.status, records.fail_step,
            records.fail_residual, records.iterations)
     scratch = batch_newton.make_scratch(shared)
-    work = kernel.make_work(shared, n_runs)
+    work = kernel.make_work(shared, n_runs, lanes)
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
+    advance = native_sweeps.advance if compiled else kernel.advance
     for first in range(1, longest + 1, CHUNK_STEPS):
-        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), system.scalars, shared, runs, run_state, out,
-                       work, scratch)
+        advance(first, min(first + CHUNK_STEPS - 1, longest), system.scalars, shared, runs, run_state, out, work,
+                scratch)
     return records
 
 

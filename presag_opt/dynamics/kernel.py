@@ -33,13 +33,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presag_opt.static.kernels import backward_substitution
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
     newton_step,
     nonlinear_forces,
 )
+from presag_opt.static.kernels import backward_substitution
 
 SHARED = (
     "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",
@@ -108,7 +108,7 @@ def initialise(scalars, shared, runs, state, out, scratch):
     u_of, v_of, stretch, rate = scratch[6], scratch[7], scratch[8], scratch[9]
     n = mass.shape[0]
     n_p = pantograph_stiffness.shape[0]
-    n_runs = u.shape[1]
+    n_runs = runs[0].shape[0]
     band_matvec(stiffness_band, u, r, n_runs)
     rate[:] = 0.0
     v_of[:] = 0.0
@@ -160,117 +160,162 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
     Between steps the catenary arrays hold the next step's predictors: u = ũ, v = ṽ,
     q = ũ + β_R ṽ, and r = α r_n (the right-hand side; the uplift acts on the heads only). A step is
     three sweeps over the DOFs, each reading the arrays once: (1) C ṽ + K ũ = α_R M ṽ + K q, g =
-    rhs − s (C ṽ + K ũ) and the forward substitution of K_eff δ_lin = g; (2) the backward
-    substitution; then each run's Newton iteration on its few nonlinear DOFs; (3) δ = δ_lin − s Z φ,
-    the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the next step's predictors.
-    The step's force scale and residual at the predictor are collected in sweep (1) over the rows
-    no nonlinear force can reach, and completed run by run on the others (:func:`_newton`).
+    rhs − s (C ṽ + K ũ) and the forward substitution of K_eff δ_lin = g (:func:`forward_sweep`);
+    (2) the backward substitution; then each run's Newton iteration on its few nonlinear DOFs;
+    (3) δ = δ_lin − s Z φ, the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the
+    next step's predictors (:func:`update_sweep`). The step's force scale and residual at the
+    predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
+    run by run on the others (:func:`~presag_opt.dynamics.batch_newton.newton_step`).
+    :func:`presag_opt.dynamics.native_sweeps.advance` is this loop with the sweeps in compiled C.
     """
-    rayleigh_alpha, rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[:6]
-    stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
-    candidate_index, support_row = shared[21], shared[23]
+    factor_band = shared[1]
+    delta = work[0]
+    for step in range(first_step, last_step + 1):
+        active = start_step(step, runs, out, work)
+        if active == 0:
+            break
+        forward_sweep(scalars, shared, state, work, active)
+        backward_substitution(factor_band, delta, active)
+        newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
+        update_sweep(step, scalars, shared, runs, state, out, work, active)
+        finish_step(step, active, runs, out)
+
+
+@njit(cache=True)
+def start_step(step, runs, out, work):
+    """The number of leading runs the step must sweep (0: all have stopped), their force scale and
+    residual at the predictor reset."""
+    n_steps, status = runs[0], out[3]
+    scale, first_residual = work[3], work[4]
+    active = 0
+    for b in range(n_steps.shape[0]):
+        if n_steps[b] >= step and status[b] == STATUS_RUNNING:
+            active = b + 1
+    for b in range(active):
+        scale[b] = 0.0
+        first_residual[b] = 0.0
+    return active
+
+
+@njit(cache=True)
+def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch):
+    """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others)."""
+    n_steps, status, phi_count = runs[0], out[3], work[5]
+    for b in range(active):
+        phi_count[b] = 0
+        if status[b] == STATUS_RUNNING and n_steps[b] >= step:
+            newton_step(b, step, scalars, shared, runs, state, out, work, scratch)
+
+
+@njit(cache=True)
+def finish_step(step, active, runs, out):
+    """Mark the runs whose last step this was as finished."""
+    n_steps, status = runs[0], out[3]
+    for b in range(active):
+        if status[b] == STATUS_RUNNING and n_steps[b] == step:
+            status[b] = STATUS_OK
+
+
+@njit(cache=True)
+def forward_sweep(scalars, shared, state, work, active):
+    """Sweep 1 of a step for the first ``active`` runs: C ṽ + K ũ row by row from the window of q,
+    g = rhs − s (C ṽ + K ũ) (kept on the candidate rows), the force scale and residual at the
+    predictor on the other rows, and the forward substitution of K_eff δ_lin = g."""
+    rayleigh_alpha, hht_alpha = scalars[0], scalars[3]
+    stiffness_band, factor_band, mass, candidate_index = shared[0], shared[1], shared[2], shared[21]
+    v, q, r = state[1], state[2], state[3]
+    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
+    n, width = factor_band.shape
+    bw = width - 1
+    s = 1.0 + hht_alpha
+    acc = np.empty(active)
+    for j in range(n):
+        d = stiffness_band[j, 0]
+        m = rayleigh_alpha * mass[j]
+        for b in range(active):
+            acc[b] = d * q[j, b] + m * v[j, b]
+        for k in range(1, min(bw, n - 1 - j) + 1):
+            value = stiffness_band[j, k]
+            for b in range(active):
+                acc[b] += value * q[j + k, b]
+        for k in range(1, min(bw, j) + 1):
+            value = stiffness_band[j - k, k]
+            for b in range(active):
+                acc[b] += value * q[j - k, b]
+        c = candidate_index[j]
+        if c >= 0:
+            for b in range(active):
+                lin = acc[b]
+                gj = r[j, b] - s * lin
+                linear[c, b] = lin
+                g[c, b] = gj
+                acc[b] = gj
+        else:
+            for b in range(active):
+                lin = acc[b]
+                gj = r[j, b] - s * lin
+                scale[b] = max(scale[b], abs(s * lin), abs(r[j, b]))
+                first_residual[b] = max(first_residual[b], abs(gj))
+                acc[b] = gj
+        for k in range(1, min(bw, j) + 1):
+            value = factor_band[j - k, k]
+            for b in range(active):
+                acc[b] -= value * delta[j - k, b]
+        d = factor_band[j, 0]
+        for b in range(active):
+            delta[j, b] = acc[b] / d
+
+
+@njit(cache=True)
+def update_sweep(step, scalars, shared, runs, state, out, work, active):
+    """Sweep 3 of a step for the first ``active`` runs: δ = δ_lin − s Z φ, the converged state, the
+    support uplift of the runs still going, and the next step's predictors."""
+    rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[1], scalars[2], scalars[3], scalars[4], scalars[5]
+    mass, columns, support_row = shared[2], shared[8], shared[23]
     n_steps = runs[0]
     u, v, q, r = state[0], state[1], state[2], state[3]
     uplift_max, status = out[1], out[3]
-    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
-    phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
-    n, width = factor_band.shape
-    bw = width - 1
-    n_runs = u.shape[1]
+    delta, phi_count, phi_column, phi_coefficient = work[0], work[5], work[6], work[7]
+    n = mass.shape[0]
     s = 1.0 + hht_alpha
     a0 = 1.0 / (newmark_beta * dt * dt)
     c_v = dt * (1.0 - newmark_gamma)
     c_a = dt * dt * (0.5 - newmark_beta)
     c_g = newmark_gamma * dt
-    acc = np.empty(n_runs)
-    for step in range(first_step, last_step + 1):
-        active = 0
-        for b in range(n_runs):
-            if n_steps[b] >= step and status[b] == STATUS_RUNNING:
-                active = b + 1
-        if active == 0:
-            break
+    for j in range(n):
         for b in range(active):
-            scale[b] = 0.0
-            first_residual[b] = 0.0
-        # Sweep 1: C ṽ + K ũ row by row from the window of q, g, and the forward substitution.
-        for j in range(n):
-            d = stiffness_band[j, 0]
-            m = rayleigh_alpha * mass[j]
-            for b in range(active):
-                acc[b] = d * q[j, b] + m * v[j, b]
-            for k in range(1, min(bw, n - 1 - j) + 1):
-                value = stiffness_band[j, k]
-                for b in range(active):
-                    acc[b] += value * q[j + k, b]
-            for k in range(1, min(bw, j) + 1):
-                value = stiffness_band[j - k, k]
-                for b in range(active):
-                    acc[b] += value * q[j - k, b]
-            c = candidate_index[j]
-            if c >= 0:
-                for b in range(active):
-                    lin = acc[b]
-                    gj = r[j, b] - s * lin
-                    linear[c, b] = lin
-                    g[c, b] = gj
-                    acc[b] = gj
-            else:
-                for b in range(active):
-                    lin = acc[b]
-                    gj = r[j, b] - s * lin
-                    scale[b] = max(scale[b], abs(s * lin), abs(r[j, b]))
-                    first_residual[b] = max(first_residual[b], abs(gj))
-                    acc[b] = gj
-            for k in range(1, min(bw, j) + 1):
-                value = factor_band[j - k, k]
-                for b in range(active):
-                    acc[b] -= value * delta[j - k, b]
-            d = factor_band[j, 0]
-            for b in range(active):
-                delta[j, b] = acc[b] / d
-        # Sweep 2: backward substitution.
-        backward_substitution(factor_band, delta, active)
+            for k in range(phi_count[b]):
+                delta[j, b] -= phi_coefficient[b, k] * columns[phi_column[b, k], j]
+        m = mass[j]
         for b in range(active):
-            phi_count[b] = 0
-            if status[b] == STATUS_RUNNING and n_steps[b] >= step:
-                newton_step(b, step, scalars, shared, runs, state, out, work, scratch)
-        # Sweep 3: the converged state, the support uplift, and the next step's predictors.
-        for j in range(n):
+            dj = delta[j, b]
+            aj = a0 * dj
+            uj = u[j, b] + dj
+            vj = v[j, b] + c_g * aj
+            rj = (r[j, b] - m * aj) / s
+            up = uj + dt * vj + c_a * aj
+            vp = vj + c_v * aj
+            delta[j, b] = uj  # u_(n+1), kept for the support records below
+            u[j, b] = up
+            v[j, b] = vp
+            q[j, b] = up + rayleigh_beta * vp
+            r[j, b] = hht_alpha * rj
+        if support_row[j]:
             for b in range(active):
-                for k in range(phi_count[b]):
-                    delta[j, b] -= phi_coefficient[b, k] * columns[phi_column[b, k], j]
-            m = mass[j]
-            for b in range(active):
-                dj = delta[j, b]
-                aj = a0 * dj
-                uj = u[j, b] + dj
-                vj = v[j, b] + c_g * aj
-                rj = (r[j, b] - m * aj) / s
-                up = uj + dt * vj + c_a * aj
-                vp = vj + c_v * aj
-                delta[j, b] = uj  # u_(n+1), kept for the support records below
-                u[j, b] = up
-                v[j, b] = vp
-                q[j, b] = up + rayleigh_beta * vp
-                r[j, b] = hht_alpha * rj
-            if support_row[j]:
-                for b in range(active):
-                    if status[b] == STATUS_RUNNING and n_steps[b] >= step:
-                        uplift_max[b] = max(uplift_max[b], delta[j, b])
-        for b in range(active):
-            if status[b] == STATUS_RUNNING and n_steps[b] == step:
-                status[b] = STATUS_OK
+                if status[b] == STATUS_RUNNING and n_steps[b] >= step:
+                    uplift_max[b] = max(uplift_max[b], delta[j, b])
 
 
-def make_work(shared, n_runs):
-    """Per-step work arrays of a batch: δ (n, runs); C ṽ + K ũ and g on the candidate rows; force
-    scale and residual at the predictor; φ (count, columns, s φ)."""
+def make_work(shared, n_runs, lanes=None):
+    """Per-step work arrays of a batch: δ (n, lanes); C ṽ + K ũ and g on the candidate rows; force
+    scale and residual at the predictor; φ (count, columns, s φ). ``lanes`` (default ``n_runs``) is
+    the run dimension of the arrays the sweeps read, padded for the compiled sweeps."""
+    lanes = n_runs if lanes is None else lanes
     n = shared[2].shape[0]
     n_candidates = shared[22].shape[0]
     size = 3 * shared[9].shape[0] + 2 * shared[3].shape[0] + 6 * shared[16].shape[0] + 1
     return (
-        np.zeros((n, n_runs)), np.zeros((n_candidates, n_runs)), np.zeros((n_candidates, n_runs)),
-        np.zeros(n_runs), np.zeros(n_runs),
+        np.zeros((n, lanes)), np.zeros((n_candidates, lanes)), np.zeros((n_candidates, lanes)),
+        np.zeros(lanes), np.zeros(lanes),
         np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
     )

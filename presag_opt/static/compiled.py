@@ -9,33 +9,30 @@ it is compiled without fast-math.
 
 The C code is generated for a fixed chunk of :data:`CHUNK` elements, so that one library serves
 every discretisation: a section's elements are padded up to whole chunks (the padding's results are
-discarded). The library is compiled with the system's C compiler (``$CC``, default ``cc``) into the
-user's cache folder (``$XDG_CACHE_HOME/presag_opt/compiled``), named by a hash of its source, the
-CasADi version and the compiler, so a change of any of them builds a new one; building takes about a
-quarter of a second. Without a working compiler, or with ``PRESAG_NO_COMPILE=1``, the functions run
+discarded). The library is compiled by :func:`presag_opt.static.native.build` into the user's
+cache folder, named by a hash of its source (which names the CasADi version), the flags and the
+compiler, so a change of any of them builds a new one; building takes about a quarter of a second.
+Without a working compiler, or with ``PRESAG_NO_COMPILE=1``, the functions run
 in CasADi's virtual machine: same results, slower.
 """
 
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
-import shutil
-import subprocess
 import tempfile
 from pathlib import Path
 
 import casadi as ca
 
-from presag_opt.static import cache
+from presag_opt.static import native
 
 CHUNK = 256
 """Elements per call of the compiled code; a section is padded up to whole chunks. [-]"""
 
-COMPILE_ENV_OFF = "PRESAG_NO_COMPILE"
+COMPILE_ENV_OFF = native.COMPILE_ENV_OFF
 """Environment variable that, set to anything but "" or "0", keeps the element functions in
-CasADi's virtual machine."""
+CasADi's virtual machine (see :mod:`presag_opt.static.native`)."""
 
 
 def element_map(function: ca.Function, count: int) -> tuple[ca.Function, int]:
@@ -78,7 +75,7 @@ def _chunk_name(function: ca.Function) -> str:
 
 
 def _library_of(function: ca.Function) -> Path | None:
-    if function.name() not in _FUNCTIONS or os.environ.get(COMPILE_ENV_OFF, "") not in ("", "0"):
+    if function.name() not in _FUNCTIONS or native.compiling_disabled():
         return None
     return _library(tuple(sorted(_FUNCTIONS)))
 
@@ -86,33 +83,10 @@ def _library_of(function: ca.Function) -> Path | None:
 @functools.cache
 def _library(names: tuple[str, ...]) -> Path | None:
     """The compiled library of the registered functions (built if missing), or None if it cannot be built."""
-    compiler = shutil.which(os.environ.get("CC", "cc"))
-    if compiler is None:
-        return None
     with tempfile.TemporaryDirectory() as scratch:
-        source = Path(scratch) / "presag_elements.c"
-        generator = ca.CodeGenerator(source.name, {"with_header": False})
+        generator = ca.CodeGenerator("presag_elements.c", {"with_header": False})
         for name in names:
             generator.add(_FUNCTIONS[name].map(_chunk_name(_FUNCTIONS[name]), "serial", CHUNK, [], []))
         generator.generate(scratch + os.sep)
-        text = source.read_text()
-        key = hashlib.sha256(f"{text}\0{ca.__version__}\0{compiler}".encode()).hexdigest()[:20]
-        folder = cache.default_cache_directory() / "compiled"
-        target = folder / f"elements-{key}.so"
-        if target.exists():
-            return target
-        built = Path(scratch) / "elements.so"
-        temporary = None
-        try:
-            subprocess.run([compiler, "-O2", "-fPIC", "-shared", str(source), "-o", str(built)],
-                           check=True, capture_output=True, timeout=120)
-            folder.mkdir(parents=True, exist_ok=True)
-            handle, temporary = tempfile.mkstemp(dir=folder, suffix=".so.tmp")
-            os.close(handle)
-            shutil.copyfile(built, temporary)
-            os.replace(temporary, target)  # atomic: concurrent processes build the same file
-        except (OSError, subprocess.SubprocessError):
-            if temporary is not None and os.path.exists(temporary):
-                os.unlink(temporary)
-            return None
-    return target
+        text = (Path(scratch) / "presag_elements.c").read_text()
+    return native.build("elements", f"/* CasADi {ca.__version__} */\n{text}", ["-O2"])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.static import compiled
+from presag_opt.static import compiled, native
 from presag_opt.static.equilibrium import lone_wire_state
 from presag_opt.static.symbolic import build_potential
 from presag_opt.system.catenary import Wire
@@ -41,6 +41,7 @@ def test_without_a_compiler_the_virtual_machine_is_used(st98, monkeypatch):
     """No compiler on the path: no library, and the model still evaluates (CasADi's virtual machine)."""
     monkeypatch.setenv("CC", "/nonexistent/cc")
     compiled._library.cache_clear()
+    native._build.cache_clear()
     try:
         assert compiled._library_of(compiled._FUNCTIONS["axial_element"]) is None
         function, padded = compiled.element_map(compiled._FUNCTIONS["axial_element"], 10)
@@ -49,3 +50,4 @@ def test_without_a_compiler_the_virtual_machine_is_used(st98, monkeypatch):
         assert np.all(np.isfinite(hess)) and np.abs(grad).max() < 1e-3
     finally:
         compiled._library.cache_clear()
+        native._build.cache_clear()

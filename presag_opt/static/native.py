@@ -1,0 +1,103 @@
+"""C libraries built on the user's machine with its C compiler, kept in the cache folder.
+
+Two hot spots run as compiled C when a compiler is available: the static model's axial element
+functions (C that CasADi generates, :mod:`presag_opt.static.compiled`) and the batch simulator's
+sweeps over all DOFs (:mod:`presag_opt.dynamics.native_sweeps`). Both give the same numbers as their
+fallbacks to the last bit; only the speed differs.
+
+:func:`build` compiles a source text with ``$CC`` (default ``cc``) into
+``$XDG_CACHE_HOME/presag_opt/compiled``, named by a hash of the source, the flags, the compiler
+and, for code tuned to this processor (``-march=native``), the processor's model and instruction
+sets, so that any change builds a new library and a cache folder shared between different machines
+never hands one the other's code. A build is written atomically (concurrent processes may build the
+same library). Without a working compiler, or with ``PRESAG_NO_COMPILE`` set to anything but "" or
+"0", nothing is built and the callers use their fallbacks.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import platform
+import shutil
+import subprocess
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+
+from presag_opt.static import cache
+
+COMPILE_ENV_OFF = "PRESAG_NO_COMPILE"
+"""Environment variable that, set to anything but "" or "0", turns all compiled code off."""
+
+
+def compiling_disabled() -> bool:
+    """Whether ``PRESAG_NO_COMPILE`` turns compiled code off."""
+    return os.environ.get(COMPILE_ENV_OFF, "") not in ("", "0")
+
+
+@functools.cache
+def _processor() -> str:
+    """The processor's model and instruction sets (what ``-march=native`` compiles for)."""
+    described = platform.machine()
+    try:
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        return described + platform.processor()
+    for key in ("model name", "flags", "Features"):
+        described += next((line for line in lines if line.startswith(key)), "")
+    return described
+
+
+def build(stem: str, source: str, flags: Sequence[str]) -> Path | None:
+    """The shared library compiled from ``source`` (built if missing), or None if it cannot be built.
+
+    Parameters
+    ----------
+    stem : str
+        Start of the library's file name.
+    source : str
+        C source text.
+    flags : sequence of str
+        Compiler flags besides ``-fPIC -shared``.
+
+    Returns
+    -------
+    Path or None
+        None when compiling is turned off, no compiler is found or the build fails.
+    """
+    if compiling_disabled():
+        return None
+    return _build(stem, source, tuple(flags))
+
+
+@functools.cache
+def _build(stem: str, source: str, flags: tuple[str, ...]) -> Path | None:
+    compiler = shutil.which(os.environ.get("CC", "cc"))
+    if compiler is None:
+        return None
+    machine = _processor() if "-march=native" in flags else platform.machine()
+    key = hashlib.sha256("\0".join([source, *flags, compiler, machine]).encode()).hexdigest()[:20]
+    folder = cache.default_cache_directory() / "compiled"
+    target = folder / f"{stem}-{key}.so"
+    if target.exists():
+        return target
+    temporary = None
+    with tempfile.TemporaryDirectory() as scratch:
+        path = Path(scratch) / f"{stem}.c"
+        path.write_text(source)
+        built = Path(scratch) / f"{stem}.so"
+        try:
+            subprocess.run([compiler, *flags, "-fPIC", "-shared", str(path), "-o", str(built)],
+                           check=True, capture_output=True, timeout=120)
+            folder.mkdir(parents=True, exist_ok=True)
+            handle, temporary = tempfile.mkstemp(dir=folder, suffix=".so.tmp")
+            os.close(handle)
+            shutil.copyfile(built, temporary)
+            os.replace(temporary, target)  # atomic: concurrent processes build the same file
+        except (OSError, subprocess.SubprocessError):
+            if temporary is not None and os.path.exists(temporary):
+                os.unlink(temporary)
+            return None
+    return target
