@@ -25,12 +25,13 @@ from __future__ import annotations
 
 import multiprocessing
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 
 import numpy as np
 
 from presag_opt.errors import ModelError
+from presag_opt.processes import worker_pool
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linearised import TensionOnlyStructure
 
@@ -419,8 +420,7 @@ def _parallel_curves(state, levels, span, step, method, workers, progress) -> li
     """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time."""
     _FORKED_STATE[:] = [state]
     try:
-        context = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(max_workers=min(workers, len(levels)), mp_context=context) as pool:
+        with worker_pool(min(workers, len(levels)), "fork") as pool:
             futures = [pool.submit(_forked_curve, force, span, step, method) for force in levels]
             for done, _ in enumerate(as_completed(futures), start=1):
                 if progress:

@@ -17,6 +17,7 @@ PACKAGE = Path(presag_opt.__file__).parent
 LAYERS = {
     "errors": 0,
     "speed": 1,
+    "processes": 1,
     "style": 1,
     "system": 2,
     "static": 3,

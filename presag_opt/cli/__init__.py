@@ -9,6 +9,7 @@ exit status 3.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from collections.abc import Sequence
 
@@ -44,8 +45,17 @@ def _version() -> str:
 COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation, report]
 
 
+def _terminated(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``presag`` console script."""
+    """Entry point of the ``presag`` console script.
+
+    SIGTERM ends a command as Ctrl-C does: its worker processes are stopped and it exits with
+    :data:`~presag_opt.cli.common.EXIT_INTERRUPTED` (see :mod:`presag_opt.processes`).
+    """
+    signal.signal(signal.SIGTERM, _terminated)
     parser = build_parser()
     args = parser.parse_args(argv)
     return common.run(args.handler, args)

@@ -19,7 +19,7 @@ import multiprocessing
 import os
 import warnings
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,6 +42,7 @@ from presag_opt.design.section import (
 )
 from presag_opt.design.validity import SpeedContext, StaticSteadyArmUplift, speed_context
 from presag_opt.errors import ModelError
+from presag_opt.processes import worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.loader import load_catenary
@@ -365,8 +366,8 @@ def recommend(
         if progress:
             for c in geometries:
                 progress(f"{c.name}: form-finding and elasticity (in parallel)")
-        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        start = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+        with worker_pool(workers, start) as pool:
             futures = [pool.submit(_layout_job, *job) for job in jobs]
             for done, _ in enumerate(as_completed(futures), start=1):
                 if progress:

@@ -12,10 +12,8 @@ with its reason: a design is never chosen around a missing run.
 
 from __future__ import annotations
 
-import multiprocessing
 import time as wallclock
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,6 +24,7 @@ from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.simulate import SimulationSettings
 from presag_opt.dynamics.statistics import lowpass_filter, window_mask
 from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.processes import worker_pool
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
@@ -266,14 +265,9 @@ class BandEvaluator:
             if self.progress:
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
             # spawn, not fork: the command line's progress display runs a thread
-            pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
-            try:
+            with worker_pool(count, "spawn") as pool:
                 futures = [pool.submit(simulate_band, *common, s) for s in new]
                 results = [f.result() for f in futures]
-            except BaseException:
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
-            pool.shutdown(wait=True)
             for s, evaluation in zip(new, results):
                 self._keep(s, evaluation)
         else:

@@ -11,17 +11,17 @@ writes files.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import sys
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
 from tqdm import tqdm
 
 from presag_opt.errors import ModelError
+from presag_opt.processes import worker_pool
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.store import (
     assemble,
@@ -131,16 +131,11 @@ def _local_results(definition: StudyDefinition, pending: list[WorkUnit], workers
     if not pending:
         return
     count = min(int(workers or os.cpu_count() or 1), len(pending))
-    pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
-    futures = [pool.submit(run_units, definition, group) for group in task_groups(pending)]
-    try:
+    # An error or an interrupt drops the queued units and stops the workers (what is stored stays).
+    with worker_pool(count, "spawn") as pool:
+        futures = [pool.submit(run_units, definition, group) for group in task_groups(pending)]
         for future in as_completed(futures):
             yield from future.result()
-    except BaseException:
-        # An error or an interrupt: drop the queued units instead of waiting for them to finish.
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
 
 
 def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address: object) -> Iterator[UnitResult]:

@@ -1,0 +1,84 @@
+"""Worker processes stop with their parent: an error or an interrupt inside :func:`worker_pool`
+kills the workers at once, and SIGTERM to the ``presag`` command stops it as Ctrl-C does, workers
+and all."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from presag_opt.processes import worker_pool
+
+SCRIPT = Path(sys.executable).parent / "presag"
+SMALL_STUDY = Path(__file__).parent / "studies" / "models" / "small_grid.toml"
+
+
+def _alive(pid: int) -> bool:
+    """Whether ``pid`` runs (a zombie counts as gone)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (FileNotFoundError, IndexError):
+        return False
+    return state != "Z"
+
+
+def _children(pid: int) -> list[int]:
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except (FileNotFoundError, ProcessLookupError):
+                continue
+            if int(fields[1]) == pid:
+                out.append(int(entry.name))
+    return out
+
+
+def _wait_until(condition, seconds: float) -> bool:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return condition()
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
+def test_an_error_inside_the_pool_kills_the_busy_workers():
+    with pytest.raises(RuntimeError, match="given up"):
+        with worker_pool(2, "spawn") as pool:
+            futures = [pool.submit(time.sleep, 60) for _ in range(2)]
+            assert _wait_until(lambda: all(f.running() for f in futures), 30), "the workers did not start"
+            workers = [p.pid for p in pool._processes.values()]
+            raise RuntimeError("given up")
+    assert len(workers) == 2
+    assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 5), "a worker outlived its pool"
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
+def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
+    process = subprocess.Popen([str(SCRIPT), "sweep", str(SMALL_STUDY), "--out", str(tmp_path / "s.nc"),
+                                "--workers", "2", "--quiet"], cwd=tmp_path, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        # The pool's two spawned workers (and its resource tracker) are children of the command.
+        assert _wait_until(lambda: len(_children(process.pid)) >= 3, 60), "the workers did not start"
+        time.sleep(1.0)
+        workers = _children(process.pid)
+        process.send_signal(signal.SIGTERM)
+        out, err = process.communicate(timeout=30)
+        assert process.returncode == 130
+        assert err.strip().splitlines()[-1] == "presag: interrupted"
+        assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 10), "a worker outlived the command"
+    finally:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
