@@ -10,14 +10,20 @@ exact solution of the same linear system.
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+from presag_opt.static import native
 
 
 @dataclass(frozen=True)
@@ -98,26 +104,47 @@ class Factor:
 
 MANY_RIGHT_HAND_SIDES = 16
 """Right-hand sides from which :func:`_banded_cholesky_solve` beats LAPACK's column-by-column solve
-once its kernel is loaded (4× at 84 columns of the 31-span section). [-]"""
+(4× at 84 columns of the 31-span section). [-]"""
 
 FIRST_USE_WORK = 2e6
-"""Rows × right-hand sides, summed over a process's many-column solves, from which the compiled
-kernel is used (its first use costs about 0.5 s: importing numba and loading the cached kernel).
-Measured on the 10-span section (7 239 rows, bandwidth 20): LAPACK 0.49 ms and the kernel 0.16 ms per
-column. One span of an ideal section (7 239 × 121, its influence columns 7 239 × 90) stays with
-LAPACK; a long mixed section (about 21 000 rows × 121 columns a span) switches at its first span,
-since its 29 spans would pay for the kernel many times over. [-]"""
+"""Without the C library: rows × right-hand sides, summed over a process's many-column solves, from
+which the numba kernel is used (its first use costs about 0.5 s: importing numba and loading the
+cached kernel). Measured on the 10-span section (7 239 rows, bandwidth 20): LAPACK 0.49 ms and the
+kernel 0.16 ms per column. One span of an ideal section (7 239 × 121, its influence columns
+7 239 × 90) stays with LAPACK; a long mixed section (about 21 000 rows × 121 columns a span)
+switches at its first span, since its 29 spans would pay for the kernel many times over. [-]"""
+
+SOURCE = Path(__file__).with_name("banded.c")
+FLAGS = ("-O3", "-march=native", "-ffp-contract=off")
+"""Compiler flags of ``banded.c``: tuned to this processor, every operation rounded on its own as in
+numba (no fused multiply-add, no fast-math)."""
 
 _lapack_work = 0.0
 """Rows × right-hand sides solved so far in this process by LAPACK in many-column solves. [-]"""
 
 
+@functools.cache
+def _compiled_solve() -> Callable | None:
+    """``presag_banded_cholesky_solve`` of the C library built from ``banded.c``, or None (no compiler,
+    or ``PRESAG_NO_COMPILE``; see :mod:`presag_opt.static.native`)."""
+    library = native.build("banded", SOURCE.read_text(), FLAGS)
+    if library is None:
+        return None
+    function = ctypes.CDLL(str(library)).presag_banded_cholesky_solve
+    pointer, count = ctypes.c_void_p, ctypes.c_int64
+    function.argtypes = [pointer, pointer, pointer, count, count, count, count]
+    function.restype = None
+    return function
+
+
 def _compiled_solve_pays(rows: int, columns: int) -> bool:
-    """Whether to solve ``columns`` right-hand sides of ``rows`` rows with the compiled kernel."""
+    """Whether to solve ``columns`` right-hand sides of ``rows`` rows with the compiled solve: from
+    :data:`MANY_RIGHT_HAND_SIDES` columns with the C library (loading it costs a millisecond), and
+    with the numba kernel once :data:`FIRST_USE_WORK` is reached."""
     global _lapack_work
     if columns < MANY_RIGHT_HAND_SIDES:
         return False
-    if "presag_opt.static.kernels" in sys.modules:
+    if _compiled_solve() is not None or "presag_opt.static.kernels" in sys.modules:
         return True
     _lapack_work += rows * columns
     return _lapack_work >= FIRST_USE_WORK
@@ -125,9 +152,18 @@ def _compiled_solve_pays(rows: int, columns: int) -> bool:
 
 def _banded_cholesky_solve(band: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """Solve L Lᵀ x = rhs with L in LAPACK's lower band storage (``band[i − j, j] = L[i, j]``), all
-    columns of ``rhs`` in one sweep (LAPACK's ``pbtrs`` takes them one at a time, at level-2 speed)."""
+    columns of ``rhs`` in one sweep (LAPACK's ``pbtrs`` takes them one at a time, at level-2 speed):
+    with the C library of ``banded.c`` where it is built, else with the numba kernel (the same
+    numbers to the last bit)."""
+    x = np.array(rhs, dtype=float, order="C")
+    factor = np.ascontiguousarray(band.T)
+    solve = _compiled_solve()
+    if solve is not None:
+        scratch = np.empty(x.shape[1])
+        solve(factor.ctypes.data, x.ctypes.data, scratch.ctypes.data, factor.shape[0], factor.shape[1], x.shape[1],
+              x.shape[1])
+        return x
     from presag_opt.static.kernels import banded_cholesky_solve  # numba is imported only when needed
 
-    x = np.array(rhs, dtype=float, order="C")
-    banded_cholesky_solve(np.ascontiguousarray(band.T), x, x.shape[1])
+    banded_cholesky_solve(factor, x, x.shape[1])
     return x
