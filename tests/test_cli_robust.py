@@ -97,3 +97,40 @@ def test_robust_dynamic_json_table_and_plot(tmp_path):
     table = presag(*args, "--risk", "mean", cwd=tmp_path)
     assert table.returncode == 0, table.stderr
     assert "Recommendation: build the" in table.stdout and "Installation tolerance" in table.stdout
+
+
+SHORT_MODEL = Path(__file__).parent / "studies" / "models" / "st_9.8_short.toml"
+
+
+def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
+    """``--check-speeds``: the nominal Δe design, the parabola of the LP and the per-dropper profile
+    built into the catenary, simulated at 105 N and 90 / 160 km/h (β 0.26 and 0.46: one run in each
+    regime per design), in the JSON and as a table."""
+    result = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--check-speeds", "90,160",
+                    "--check-forces", "105", "--json", "--quiet", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    rows = json.loads(result.stdout)["dynamic_check"]
+    assert [(r["design"], r["regime"]) for r in rows] == [
+        (design, regime) for design in ("nominal Δe", "robust parabola (same LP)", "robust per-dropper")
+        for regime in ("beta < 0.4", "beta >= 0.4")]
+    for r in rows:
+        assert r["runs"] == 1 and r["worst_sigma_over_Fm"] == r["mean_sigma_over_Fm"]
+        assert 0.01 < r["worst_sigma_over_Fm"] < 0.5 and 0.0 < r["uplift_max_mm"] < 200.0
+    by_design = {r["design"]: r["presag_mm"] for r in rows}
+    assert 20.0 < by_design["robust per-dropper"] < 90.0 and by_design["nominal Δe"] != by_design["robust per-dropper"]
+    # σ/F_m rises with speed on every design (β 0.26 -> 0.46 on this pantograph)
+    for design in by_design:
+        low, high = (r["worst_sigma_over_Fm"] for r in rows if r["design"] == design)
+        assert high > low
+
+
+@pytest.mark.parametrize("args, words", [
+    (("--check-forces", "105"), "add --check-speeds"),
+    (("--check-speeds", "400"), "--check-speeds 400 km/h is outside the valid range"),
+    (("--dynamic", "--check-speeds", "90"), "--check-speeds is an option of the quasi-static design"),
+    (("--pantograph", "case_study_2mass_friction"), "add --dynamic"),
+])
+def test_dynamic_check_bad_options(tmp_path, args, words):
+    result = presag("robust", *args, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr and words in result.stderr.strip().splitlines()[-1]

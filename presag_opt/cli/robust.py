@@ -36,6 +36,12 @@ DYNAMIC_DEFAULTS = {
 """Options of ``--dynamic`` and their defaults: the case study (F_stat 70–140 N up to 90 km/h, simulated
 from 50 km/h, the paper's lowest grid speed; α_ae 0.00097 N/(km/h)²; uplift limit 83.5 mm)."""
 
+CHECK_FORCES = (70.0, 105.0, 140.0)
+"""Static contact forces of ``--check-speeds`` by default: the case study's band, its ends and centre. [N]"""
+
+SHARED_WITH_CHECK = ("pantograph", "aero")
+"""Options of ``--dynamic`` that ``--check-speeds`` uses too."""
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the robust-design sub-commands."""
@@ -60,8 +66,24 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--step-mm", metavar="MM", type=float, default=None,
                            help="construction step of per-dropper heights in mm (default 5)")
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
+            _add_check_options(p)
             _add_dynamic_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
+
+
+def _add_check_options(p: argparse.ArgumentParser) -> None:
+    group = p.add_argument_group(
+        "dynamic check of the quasi-static designs (--check-speeds)",
+        "simulate the designs of the quasi-static study (the Δe rule at the band centre and the robust design; with "
+        "--shape per-dropper the profile built into the catenary and the parabola of the same LP) at every static force x "
+        "speed given, with the pantograph of --pantograph and the α_ae of --aero; report per design and regime "
+        "(below and above β 0.4) the worst and mean sigma/F_m, the largest steady-arm uplift and the loss of contact",
+    )
+    group.add_argument("--check-speeds", metavar="KMH,KMH", type=float_list, default=None,
+                       help="speeds to simulate the designs at, in km/h, e.g. 50,90,160")
+    group.add_argument("--check-forces", metavar="N,N", type=float_list, default=None,
+                       help="static contact forces of the check in N (default %s)" % ",".join(
+                           f"{f:g}" for f in CHECK_FORCES))
 
 
 def _add_dynamic_options(p: argparse.ArgumentParser) -> None:
@@ -95,7 +117,8 @@ def _add_dynamic_options(p: argparse.ArgumentParser) -> None:
 def _dynamic_option(args: argparse.Namespace, name: str):
     """An option of ``--dynamic``: its value, or its default; refused without ``--dynamic``."""
     value = getattr(args, name)
-    if not args.dynamic:
+    checking = getattr(args, "check_speeds", None) is not None and name in SHARED_WITH_CHECK
+    if not args.dynamic and not checking:
         if value is not None:
             raise ModelError(f"--{name.replace('_', '-')} is an option of the dynamic design; add --dynamic")
         return None
@@ -133,11 +156,23 @@ def robust_command(args: argparse.Namespace) -> int:
         _dynamic_option(args, name)
     if args.dynamic:
         return _dynamic_command(args, risk)
+    if args.check_forces is not None and args.check_speeds is None:
+        raise ModelError("--check-forces sets the static forces of the dynamic check; add --check-speeds")
     step = 5.0 if args.step_mm is None else args.step_mm
     build = Buildability(step=step * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
+    pantograph = _check_pantograph(args)
+    if args.check_speeds is not None:
+        wave_speed = load_catenary(args.model).contact_wire.wave_speed * 3.6
+        for speed in args.check_speeds:
+            if speed >= wave_speed:
+                raise ModelError(f"--check-speeds {speed:g} km/h is outside the valid range (0, {wave_speed:.0f}) km/h "
+                                 "(below the contact-wire wave speed)")
     study, plot = _study(args, shape=args.shape, risk=risk, buildability=build)
     _plot(args, study, plot)
     data = study.to_dict()
+    check = _dynamic_check(args, study, pantograph) if args.check_speeds is not None else None
+    if check is not None:
+        data["dynamic_check"] = check.summary()
     if args.json:
         print_json(data)
         return 0
@@ -155,7 +190,63 @@ def robust_command(args: argparse.Namespace) -> int:
               f"{data['continuous_objective_mm']:.1f} mm): " + ", ".join(f"{d:.0f}" for d in data["dropper_depths_mm"]))
     low, high = data["tolerance_mm"]
     print(f"\nInstallation tolerance (worst-case R within {data['tolerance_within'] * 100:g} %): {low:.1f}–{high:.1f} mm")
+    if check is not None:
+        window = check_settings(load_catenary(args.model))
+        print(f"\nDynamic check ({pantograph.name}; F_stat {', '.join(f'{f:g}' for f in _check_forces(args))} N × "
+              f"{', '.join(f'{v:g}' for v in args.check_speeds)} km/h; {window.analysed_spans} analysed span(s) after "
+              f"{window.lead_in_spans} lead-in, automatic numerics):")
+        print(table(["design", "S [mm]", "regime", "runs", "worst σ/F_m", "mean σ/F_m", "max uplift [mm]",
+                     "loss of contact [%]"],
+                    [(r["design"], r["presag_mm"], r["regime"].replace("beta", "β"), r["runs"],
+                      r["worst_sigma_over_Fm"], r["mean_sigma_over_Fm"], r["uplift_max_mm"],
+                      r["loss_of_contact_max_pct"]) for r in data["dynamic_check"]],
+                    ["{}", "{:.1f}", "{}", "{}", "{:.4f}", "{:.4f}", "{:.1f}", "{:.1f}"]))
     return 0
+
+
+def _check_forces(args: argparse.Namespace) -> list[float]:
+    return list(CHECK_FORCES) if args.check_forces is None else args.check_forces
+
+
+def _check_pantograph(args: argparse.Namespace):
+    """The pantograph of ``--check-speeds`` (loaded before the study, so a bad name fails at once)."""
+    if args.check_speeds is None:
+        return None
+    from presag_opt.dynamics.pantograph import load_pantograph
+
+    return load_pantograph(_dynamic_option(args, "pantograph"))
+
+
+def _dynamic_check(args: argparse.Namespace, study, pantograph):
+    """``--check-speeds``: the study's designs simulated at every static force × speed given."""
+    from presag_opt.design.band import KMH
+    from presag_opt.robust import dynamic_check
+    from presag_opt.robust.dynamic_check import design_catenary
+
+    catenary = load_catenary(args.model)
+    designs = {"nominal Δe": study.nominal.presag_rel}
+    if study.robust.shape == "per-dropper":
+        designs["robust parabola (same LP)"] = study.robust_parabola.presag_rel
+        designs["robust per-dropper"] = design_catenary(catenary, study.path, study.robust.depths)
+    else:
+        designs["robust"] = study.robust.presag_rel
+    data = study.to_dict()
+    with progress(args) as report:
+        return dynamic_check(catenary, designs, pantograph=pantograph, static_forces=_check_forces(args),
+                             speeds=[v * KMH for v in args.check_speeds],
+                             aero_coefficient=_dynamic_option(args, "aero") / KMH**2,
+                             reference_span=data["reference_span_m"], settings=check_settings(catenary),
+                             progress=report)
+
+
+def check_settings(catenary):
+    """Numerics of ``--check-speeds``: automatic, two lead-in and two analysed spans where the section
+    has them, fewer on a short one (lead-in spans on both sides of the analysed ones)."""
+    from presag_opt.dynamics.simulate import SimulationSettings
+
+    spans = catenary.layout.n_spans
+    lead_in = min(2, (spans - 1) // 2)
+    return SimulationSettings(numerics="auto", lead_in_spans=lead_in, analysed_spans=min(2, spans - 2 * lead_in))
 
 
 def tolerance_command(args: argparse.Namespace) -> int:
@@ -197,7 +288,9 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     from presag_opt.robust.dynamic_study import dynamic_robust_study
 
     for option, given in (("--fm-band", args.fm_band is not None), ("--step-mm", args.step_mm is not None),
-                          ("--asymmetric", args.asymmetric), ("--shape per-dropper", args.shape != "parabola")):
+                          ("--asymmetric", args.asymmetric), ("--shape per-dropper", args.shape != "parabola"),
+                          ("--check-speeds", args.check_speeds is not None),
+                          ("--check-forces", args.check_forces is not None)):
         if given:
             raise ModelError(f"{option} is an option of the quasi-static design; --dynamic designs a parabola "
                              "over a band of static forces and speeds (--static-force, --speed)")
