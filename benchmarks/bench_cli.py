@@ -38,10 +38,13 @@ COMMANDS = {
 
 
 def timed_run(command: list[str], args: list[str], env: dict[str, str]) -> tuple[float, float]:
-    """Wall and CPU seconds of one fresh ``presag`` process (CPU: user + system, children included)."""
+    """Wall and CPU seconds of one fresh ``presag`` process (CPU: user + system, children included).
+
+    Runs in the temporary folder ``env["XDG_CACHE_HOME"]``, so that ``python -m`` does not put a
+    checkout in the current folder ahead of ``--source`` on the import path."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    subprocess.run([*command, *args], check=True, stdout=subprocess.DEVNULL, env=env)
+    subprocess.run([*command, *args], check=True, stdout=subprocess.DEVNULL, env=env, cwd=env["XDG_CACHE_HOME"])
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
