@@ -104,9 +104,9 @@ SHORT_MODEL = Path(__file__).parent / "studies" / "models" / "st_9.8_short.toml"
 
 def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
     """``--check-speeds``: the nominal Δe design, the parabola of the LP and the per-dropper profile
-    built into the catenary, simulated at 105 N and 90 / 160 km/h (β 0.26 and 0.46: one run in each
+    built into the catenary, simulated at 105 N and 130 / 160 km/h (β 0.38 and 0.46: one run in each
     regime per design), in the JSON and as a table."""
-    result = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--check-speeds", "90,160",
+    result = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--check-speeds", "130,160",
                     "--check-forces", "105", "--json", "--quiet", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     rows = json.loads(result.stdout)["dynamic_check"]
@@ -118,7 +118,7 @@ def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
         assert 0.01 < r["worst_sigma_over_Fm"] < 0.5 and 0.0 < r["uplift_max_mm"] < 200.0
     by_design = {r["design"]: r["presag_mm"] for r in rows}
     assert 20.0 < by_design["robust per-dropper"] < 90.0 and by_design["nominal Δe"] != by_design["robust per-dropper"]
-    # σ/F_m rises with speed on every design (β 0.26 -> 0.46 on this pantograph)
+    # σ/F_m rises with speed on every design (β 0.38 -> 0.46 on this pantograph)
     for design in by_design:
         low, high = (r["worst_sigma_over_Fm"] for r in rows if r["design"] == design)
         assert high > low

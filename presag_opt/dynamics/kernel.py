@@ -267,21 +267,26 @@ def forward_sweep(scalars, shared, state, work, active):
 
 
 @njit(cache=True)
+def update_constants(scalars):
+    """The constants of the state update: s = 1 + α, a0 = 1/(β Δt²) [1/s²], Δt (1 − γ) [s],
+    Δt² (1/2 − β) [s²] and γ Δt [s]."""
+    dt, hht_alpha, newmark_beta, newmark_gamma = scalars[2], scalars[3], scalars[4], scalars[5]
+    return (1.0 + hht_alpha, 1.0 / (newmark_beta * dt * dt), dt * (1.0 - newmark_gamma),
+            dt * dt * (0.5 - newmark_beta), newmark_gamma * dt)
+
+
+@njit(cache=True)
 def update_sweep(step, scalars, shared, runs, state, out, work, active):
     """Sweep 3 of a step for the first ``active`` runs: δ = δ_lin − s Z φ, the converged state, the
     support uplift of the runs still going, and the next step's predictors."""
-    rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[1], scalars[2], scalars[3], scalars[4], scalars[5]
+    rayleigh_beta, dt, hht_alpha = scalars[1], scalars[2], scalars[3]
     mass, columns, support_row = shared[2], shared[8], shared[23]
     n_steps = runs[0]
     u, v, q, r = state[0], state[1], state[2], state[3]
     uplift_max, status = out[1], out[3]
     delta, phi_count, phi_column, phi_coefficient = work[0], work[5], work[6], work[7]
     n = mass.shape[0]
-    s = 1.0 + hht_alpha
-    a0 = 1.0 / (newmark_beta * dt * dt)
-    c_v = dt * (1.0 - newmark_gamma)
-    c_a = dt * dt * (0.5 - newmark_beta)
-    c_g = newmark_gamma * dt
+    s, a0, c_v, c_a, c_g = update_constants(scalars)
     for j in range(n):
         for b in range(active):
             for k in range(phi_count[b]):

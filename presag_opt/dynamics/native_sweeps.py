@@ -26,7 +26,7 @@ from pathlib import Path
 
 from numba import njit, types
 
-from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step
+from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step, update_constants
 from presag_opt.static import native
 
 LANES = 8
@@ -73,7 +73,7 @@ def lanes_for(n_runs: int) -> int:
 def advance(first_step, last_step, scalars, shared, runs, state, out, work, scratch):
     """:func:`presag_opt.dynamics.kernel.advance` with its three sweeps in compiled C (same arguments,
     same results; the catenary's run arrays padded to :func:`lanes_for` runs)."""
-    rayleigh_alpha, rayleigh_beta, dt, hht_alpha, newmark_beta, newmark_gamma = scalars[:6]
+    rayleigh_alpha, rayleigh_beta, dt, hht_alpha = scalars[0], scalars[1], scalars[2], scalars[3]
     stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
     candidate_index, support_row = shared[21], shared[23]
     n_steps = runs[0]
@@ -83,11 +83,7 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
     phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
     n, width = factor_band.shape
     ld = delta.shape[1]
-    s = 1.0 + hht_alpha
-    a0 = 1.0 / (newmark_beta * dt * dt)
-    c_v = dt * (1.0 - newmark_gamma)
-    c_a = dt * dt * (0.5 - newmark_beta)
-    c_g = newmark_gamma * dt
+    s, a0, c_v, c_a, c_g = update_constants(scalars)
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
         if active == 0:

@@ -18,30 +18,15 @@ import numpy as np
 import pytest
 
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import form_find
-from presag_opt.system.catenary import SpanLayout
 
 STATISTICS = ("mean_force", "std_force", "statistical_max", "statistical_min", "max_force", "min_force")
 EXACT = 1e-9
 """Agreement of the two paths where the reference is well conditioned (see the module notes). [-]"""
 
 AERO = 0.00097 * 3.6**2  # the case study's α_ae [N/(m/s)²]
-
-
-@pytest.fixture(scope="module")
-def case():
-    return load_case("case_study_st98")
-
-
-@pytest.fixture(scope="module")
-def short_state(case):
-    """Form-found 5-span ST 9,8/9,8 section."""
-    catenary = case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 5, label="5 ideal spans"))
-    return form_find(catenary, case.settings.static)
 
 
 @pytest.fixture(scope="module")

@@ -15,23 +15,9 @@ import pytest
 
 from presag_opt.dynamics import native_sweeps
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.case import load_case
 from presag_opt.static import native
-from presag_opt.static.equilibrium import form_find
-from presag_opt.system.catenary import SpanLayout
 
 AERO = 0.00097 * 3.6**2  # the case study's α_ae [N/(m/s)²]
-
-
-@pytest.fixture(scope="module")
-def case():
-    return load_case("case_study_st98")
-
-
-@pytest.fixture(scope="module")
-def short_state(case):
-    catenary = case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 5, label="5 ideal spans"))
-    return form_find(catenary, case.settings.static)
 
 
 @pytest.fixture(scope="module")
