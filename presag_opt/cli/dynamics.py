@@ -25,7 +25,8 @@ from presag_opt.system.loader import builtin_model_names, load_catenary
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
     from presag_opt.dynamics.case import SimulationCase
-    from presag_opt.dynamics.simulate import SimulationResult, SimulationSettings
+    from presag_opt.dynamics.settings import SimulationSettings
+    from presag_opt.dynamics.simulate import SimulationResult
 
 SCHEMES = {
     "hht": IntegratorSettings(scheme="hht", hht_alpha=-0.005),
@@ -217,7 +218,7 @@ def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: 
 def _case(args: argparse.Namespace) -> SimulationCase:
     from presag_opt.dynamics.case import SimulationCase, load_case
     from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.dynamics.simulate import Operation, SimulationSettings
+    from presag_opt.dynamics.settings import Operation, SimulationSettings
 
     """The case from ``--case``, or one built from MODEL and the flags; flags override a case's values."""
     if args.case is not None and args.model is not None:

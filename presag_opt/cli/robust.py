@@ -242,7 +242,7 @@ def _dynamic_check(args: argparse.Namespace, study, pantograph):
 def check_settings(catenary):
     """Numerics of ``--check-speeds``: automatic, two lead-in and two analysed spans where the section
     has them, fewer on a short one (lead-in spans on both sides of the analysed ones)."""
-    from presag_opt.dynamics.simulate import SimulationSettings
+    from presag_opt.dynamics.settings import SimulationSettings
 
     spans = catenary.layout.n_spans
     lead_in = min(2, (spans - 1) // 2)

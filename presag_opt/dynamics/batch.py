@@ -27,7 +27,8 @@ import numpy as np
 from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import RunPlan, SimulationSettings, plan_run, route, run_warnings
+from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError

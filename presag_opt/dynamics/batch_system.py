@@ -19,12 +19,8 @@ import scipy.sparse as sp
 
 from presag_opt.dynamics import batch_newton, kernel, native_sweeps
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import (
-    RunPlan,
-    SimulationSettings,
-    recorded_droppers,
-    static_contact,
-)
+from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_contact
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState

@@ -9,8 +9,8 @@ A case file (``models/cases/*.toml``) has three sections::
 
 Every number is a ``{ value, unit, source, note }`` table, read and range-checked by the same
 loader helpers as the catenary and pantograph files: the ranges are those of
-:class:`~presag_opt.dynamics.simulate.Operation` and
-:class:`~presag_opt.dynamics.simulate.SimulationSettings`.
+:class:`~presag_opt.dynamics.settings.Operation` and
+:class:`~presag_opt.dynamics.settings.SimulationSettings`.
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ from pathlib import Path
 from typing import Any
 
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
-from presag_opt.dynamics.simulate import Operation, RunPlan, SimulationResult, SimulationSettings, plan_run, simulate
+from presag_opt.dynamics.run_plan import RunPlan, plan_run
+from presag_opt.dynamics.settings import Operation, SimulationSettings
+from presag_opt.dynamics.simulate import SimulationResult, simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.system.catenary import Catenary, Provenance
@@ -74,7 +76,7 @@ class SimulationCase:
     provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
 
     def plan(self, speed: float, settings: SimulationSettings | None = None) -> RunPlan:
-        """Check the case at one speed without running it (see :func:`~presag_opt.dynamics.simulate.plan_run`).
+        """Check the case at one speed without running it (see :func:`~presag_opt.dynamics.run_plan.plan_run`).
 
         Parameters
         ----------

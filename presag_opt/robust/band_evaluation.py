@@ -21,7 +21,7 @@ import numpy as np
 from presag_opt.design.band import KMH
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.statistics import lowpass_filter, window_mask
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import worker_pool

@@ -22,7 +22,7 @@ import numpy as np
 from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT, speed_context
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
 from presag_opt.robust.dynamic_design import (
     DynamicObjective,

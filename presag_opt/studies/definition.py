@@ -32,7 +32,8 @@ from typing import Any
 
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
-from presag_opt.dynamics.simulate import SimulationSettings, plan_run
+from presag_opt.dynamics.run_plan import plan_run
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.static.discretisation import StaticSettings

@@ -22,7 +22,7 @@ from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.section import SectionElasticity, section_elasticity

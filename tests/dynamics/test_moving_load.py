@@ -16,7 +16,8 @@ import pytest
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
-from presag_opt.dynamics.simulate import SimulationSettings, simulate
+from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import lone_wire_state

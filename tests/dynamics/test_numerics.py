@@ -11,7 +11,7 @@ from presag_opt.dynamics.numerics import (
     numerics_for_speed,
     resolution_warnings,
 )
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 
 ST98 = 95.70  # contact-wire wave speed of ST 9,8/9,8, sqrt(9800 N / 1.07 kg/m) [m/s]
 EN = 121.72  # EN 50318-style wire, sqrt(20000 N / 1.35 kg/m) [m/s]

@@ -11,7 +11,9 @@ import pytest
 from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.simulate import SimulationSettings, plan_run, simulate
+from presag_opt.dynamics.run_plan import plan_run
+from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find

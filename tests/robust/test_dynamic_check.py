@@ -8,7 +8,8 @@ import pytest
 
 from presag_opt.dynamics.batch import OperatingPoint, simulate_many
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.simulate import SimulationSettings, simulate
+from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.robust import dynamic_check
 from presag_opt.robust.dynamic_check import design_catenary

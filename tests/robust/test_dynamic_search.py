@@ -17,7 +17,7 @@ from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ConvergenceError
 from presag_opt.robust.band_evaluation import BandEvaluator
 from presag_opt.robust.dynamic_design import DynamicObjective, SearchSettings, dynamic_robust_presag

@@ -7,7 +7,7 @@ import pytest
 
 from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.simulate import SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.system.loader import load_catenary

@@ -26,7 +26,7 @@ from presag_opt.design.empirical import EmpiricalPresag
 from presag_opt.dynamics.batch import OperatingPoint
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import FrictionRegularisation, PantographStage, PenaltyContact, load_pantograph
-from presag_opt.dynamics.simulate import Operation, SimulationSettings
+from presag_opt.dynamics.settings import Operation, SimulationSettings
 from presag_opt.dynamics.structure import StructureSettings
 from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
