@@ -104,24 +104,23 @@ SHORT_MODEL = Path(__file__).parent / "studies" / "models" / "st_9.8_short.toml"
 
 def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
     """``--check-speeds``: the nominal Δe design, the parabola of the LP and the per-dropper profile
-    built into the catenary, simulated at 105 N and 130 / 160 km/h (β 0.38 and 0.46: one run in each
-    regime per design), in the JSON and as a table."""
-    result = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--check-speeds", "130,160",
+    built into the catenary, simulated at 105 N and 160 km/h (β 0.46, above the quasi-static limit),
+    in the JSON. (The split of the runs by regime is ``tests/robust/test_dynamic_check.py``'s.)"""
+    result = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--check-speeds", "160",
                     "--check-forces", "105", "--json", "--quiet", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
-    rows = json.loads(result.stdout)["dynamic_check"]
+    data = json.loads(result.stdout)
+    rows = data["dynamic_check"]
     assert [(r["design"], r["regime"]) for r in rows] == [
-        (design, regime) for design in ("nominal Δe", "robust parabola (same LP)", "robust per-dropper")
-        for regime in ("beta < 0.4", "beta >= 0.4")]
+        (design, "beta >= 0.4") for design in ("nominal Δe", "robust parabola (same LP)", "robust per-dropper")]
     for r in rows:
         assert r["runs"] == 1 and r["worst_sigma_over_Fm"] == r["mean_sigma_over_Fm"]
         assert 0.01 < r["worst_sigma_over_Fm"] < 0.5 and 0.0 < r["uplift_max_mm"] < 200.0
     by_design = {r["design"]: r["presag_mm"] for r in rows}
-    assert 20.0 < by_design["robust per-dropper"] < 90.0 and by_design["nominal Δe"] != by_design["robust per-dropper"]
-    # σ/F_m rises with speed on every design (β 0.38 -> 0.46 on this pantograph)
-    for design in by_design:
-        low, high = (r["worst_sigma_over_Fm"] for r in rows if r["design"] == design)
-        assert high > low
+    assert by_design["nominal Δe"] == pytest.approx(data["nominal_presag_mm"], abs=0.05)
+    assert by_design["robust per-dropper"] != by_design["robust parabola (same LP)"]
+    # the three designs differ, and so do their runs
+    assert len({r["worst_sigma_over_Fm"] for r in rows}) == 3
 
 
 @pytest.mark.parametrize("args, words", [
