@@ -1,6 +1,7 @@
 """The batch simulator's compiled sweeps (``sweeps.c``) against the numba kernel: the same records to
-the last bit, for batches that fill one block of lanes, two blocks, and a single run, with runs that
-stop at different steps and a run that fails; and the fallback to numba without a compiler.
+the last bit, for a batch that fills one block of lanes and starts a second, and for a block with
+six dead lanes, with runs that stop at different steps and a run that fails; and the fallback to
+numba without a compiler.
 
 The section is the 5-span ST 9,8/9,8 of ``test_batch.py`` (one lead-in span, the central span
 analysed), which keeps each batch to a few seconds.
@@ -59,11 +60,10 @@ def test_two_blocks_of_lanes_with_friction_give_the_numba_results_bit_for_bit(sh
     _assert_identical(compiled, numba)
 
 
-def test_a_single_run_and_a_failed_run_give_the_numba_results_bit_for_bit(short_state, case, settings, monkeypatch):
-    """One run alone (one block, seven dead lanes); and a batch in which the fast run fails (one Newton
-    correction per step is too few where droppers go slack) while the slow one finishes."""
-    alone = [OperatingPoint(speed=150 / 3.6, static_force=100.0, aero_coefficient=AERO)]
-    _assert_identical(*_both(short_state, case.pantograph, alone, settings, monkeypatch))
+def test_a_failed_run_beside_a_finished_one_gives_the_numba_results_bit_for_bit(short_state, case, settings,
+                                                                              monkeypatch):
+    """Two runs in one block (six dead lanes): the fast run fails (one Newton correction per step is
+    too few where droppers go slack) while the slow one finishes."""
     tight = dataclasses.replace(settings, integrator=dataclasses.replace(settings.integrator, max_iterations=1))
     pair = [OperatingPoint(speed=200 / 3.6, static_force=100.0, aero_coefficient=AERO),
             OperatingPoint(speed=60 / 3.6, static_force=50.0, aero_coefficient=AERO)]
