@@ -57,8 +57,9 @@ def _assert_same(outcome, reference, rel):
 
 
 def test_batch_equals_single_runs_across_speeds_and_forces(short_state, frictionless, settings):
-    """Four operating points in one batch, each equal to its own single run (1e-9)."""
-    points = [OperatingPoint(speed=v / 3.6, static_force=f, aero_coefficient=AERO) for v in (60, 90) for f in (70, 140)]
+    """Two operating points of different speed and force in one batch (they stop at different steps),
+    each equal to its own single run (1e-9)."""
+    points = [OperatingPoint(speed=v / 3.6, static_force=f, aero_coefficient=AERO) for v, f in ((60, 70), (90, 140))]
     batch = simulate_many(short_state, frictionless, points, settings=settings, keep_histories=True)
     for point, outcome in zip(points, batch.runs):
         assert outcome.point == point

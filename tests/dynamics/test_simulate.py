@@ -42,6 +42,7 @@ def en50318_runs():
     return {round(v * 3.6): case.run(v, state=state, settings=paper) for v in case.speeds}
 
 
+@pytest.mark.slow  # 31 000 steps of the single-run path; the default run has notebook 02's check (10 km/h, 10 %)
 def test_crawling_uplift_equals_force_times_static_elasticity(three_spans):
     """At 1 km/h a constant 60 N lifts the contact point by F·e(x), e from the tangent stiffness.
 
