@@ -52,7 +52,8 @@ def _case_and_state(presag_mm: float = 30.0):
 
 def side_by_side(repeat: int) -> None:
     from presag_opt.dynamics import native_sweeps
-    from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+    from presag_opt.dynamics.batch import simulate_many
+    from presag_opt.dynamics.settings import OperatingPoint
     from presag_opt.dynamics.simulate import simulate
 
     case, settings, state = _case_and_state()
@@ -102,7 +103,7 @@ def memory_80() -> None:
     """Print the peak RSS of an 80-run batch measured in a fresh interpreter."""
     code = (
         "import resource, sys; sys.path.insert(0, %r); import bench_batch as b;"
-        "from presag_opt.dynamics.batch import OperatingPoint, simulate_many;"
+        "from presag_opt.dynamics.batch import simulate_many; from presag_opt.dynamics.settings import OperatingPoint;"
         "case, settings, state = b._case_and_state();"
         "pts = [OperatingPoint(speed=v / 3.6, static_force=f, aero_coefficient=case.operation.aero_coefficient)"
         " for v in (50, 60, 70, 80, 90, 100, 120, 140, 160, 180) for f in range(50, 156, 15)];"

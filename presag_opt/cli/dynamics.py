@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+from typing import TYPE_CHECKING
 
 from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,
@@ -17,8 +18,6 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from typing import TYPE_CHECKING
-
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import builtin_model_names, load_catenary
@@ -176,7 +175,8 @@ def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, st
 
 
 def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: dict, settings) -> int:
-    from presag_opt.dynamics.batch import BatchResult, OperatingPoint, simulate_many
+    from presag_opt.dynamics.batch import BatchResult, simulate_many
+    from presag_opt.dynamics.settings import OperatingPoint
 
     aero = case.operation.aero_coefficient
     order = list(plans)

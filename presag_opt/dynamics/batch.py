@@ -28,39 +28,19 @@ from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
-from presag_opt.dynamics.settings import SimulationSettings
-from presag_opt.dynamics.statistics import ContactForceStatistics, contact_force_statistics
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
+from presag_opt.dynamics.statistics import (
+    ContactForceStatistics,
+    contact_force_statistics,
+)
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.system.quantity import quantity, validate_fields
 
 BATCH_SIZE = 16
 """Runs advanced together by the compiled kernel: enough to vectorise across runs and to hide the
 latency of the banded substitutions, few enough that the working arrays (about 14 × n_dofs doubles
 per run) stay close to the processor. [-]"""
-
-
-@dataclass(frozen=True, kw_only=True)
-class OperatingPoint:
-    """One operating point of a batch.
-
-    Attributes
-    ----------
-    speed : float
-        Train speed. [m/s]
-    static_force : float
-        Static uplift force of each pantograph. [N]
-    aero_coefficient : float
-        Aerodynamic uplift coefficient α_ae of F_m = F_stat + α_ae v². [N/(m/s)²]
-    """
-
-    speed: float = quantity("speed", 0.0, 600.0, display="km/h", low_open=True)
-    static_force: float = quantity("force", 0.0, 500.0, low_open=True)
-    aero_coefficient: float = quantity("aero_coefficient", 0.0, 0.01, display="N/(km/h)^2", default=0.0)
-
-    def __post_init__(self) -> None:
-        validate_fields(self)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -4,7 +4,8 @@
 friction regularisation; fixed, or following the speed with ``numerics = "auto"``, see
 :mod:`presag_opt.dynamics.numerics`) and the analysis window (analysed and lead-in spans, run-out,
 cut-off frequency) of :func:`~presag_opt.dynamics.simulate.simulate` and of the batch engine;
-:class:`Operation` the operating point of one run (speed, static force, α_ae, spacings).
+:class:`OperatingPoint` an operating point (speed, static force, α_ae), shared by the batch engine
+and the studies, and :class:`Operation` one run's point with its pantograph spacings.
 """
 
 from __future__ import annotations
@@ -109,8 +110,8 @@ class SimulationSettings:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Operation:
-    """Operating point of a run: train speed, uplift force and pantograph spacings.
+class OperatingPoint:
+    """One operating point: train speed, static force and aerodynamic uplift.
 
     Attributes
     ----------
@@ -120,25 +121,38 @@ class Operation:
         Static uplift force of each pantograph. [N]
     aero_coefficient : float
         Aerodynamic uplift coefficient α_ae of F_m = F_stat + α_ae v². [N/(m/s)²]
-    spacings : tuple of float or None
-        Distances between consecutive pantographs, front to rear; None for a single pantograph. [m]
     """
 
     speed: float = quantity("speed", 0.0, 600.0, display="km/h", low_open=True)
     static_force: float = quantity("force", 0.0, 500.0, low_open=True)
     aero_coefficient: float = quantity("aero_coefficient", 0.0, 0.01, display="N/(km/h)^2", default=0.0)
-    spacings: tuple[float, ...] | None = quantity("length", 1.0, 2000.0, default=None, allow_none=True)
 
     def __post_init__(self) -> None:
-        if self.spacings is not None:
-            spacings = tuple(float(s) for s in self.spacings)
-            object.__setattr__(self, "spacings", spacings or None)
         validate_fields(self)
 
     @property
     def uplift_force(self) -> float:
         """Mean uplift force F_stat + α_ae v² of each pantograph. [N]"""
         return self.static_force + self.aero_coefficient * self.speed**2
+
+
+@dataclass(frozen=True, kw_only=True)
+class Operation(OperatingPoint):
+    """Operating point of a run with its train: the point and the pantograph spacings.
+
+    Attributes
+    ----------
+    spacings : tuple of float or None
+        Distances between consecutive pantographs, front to rear; None for a single pantograph. [m]
+    """
+
+    spacings: tuple[float, ...] | None = quantity("length", 1.0, 2000.0, default=None, allow_none=True)
+
+    def __post_init__(self) -> None:
+        if self.spacings is not None:
+            spacings = tuple(float(s) for s in self.spacings)
+            object.__setattr__(self, "spacings", spacings or None)
+        super().__post_init__()
 
     @property
     def offsets(self) -> np.ndarray:

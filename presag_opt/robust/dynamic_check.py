@@ -18,8 +18,8 @@ import numpy as np
 
 from presag_opt.design.band import KMH
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.operating_grid import band_static_settings
 from presag_opt.robust.path import PathModel

@@ -15,10 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import KMH, OperatingBand, mean_contact_force
-from presag_opt.dynamics.batch import OperatingPoint
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import plan_run
-from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary

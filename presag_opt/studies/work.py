@@ -21,11 +21,11 @@ from collections import OrderedDict
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
-from presag_opt.dynamics.settings import SimulationSettings
-from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.section import SectionElasticity, section_elasticity
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.speed import speed_ratio
 from presag_opt.static.equilibrium import EquilibriumState, form_find
 from presag_opt.studies.definition import StudyDefinition

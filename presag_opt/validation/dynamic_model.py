@@ -26,11 +26,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import SimulationCase
 from presag_opt.dynamics.integrator import IntegratorSettings, integrate
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
-from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.elasticity import linear_elasticity
 from presag_opt.errors import ModelError

@@ -17,8 +17,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.pantograph import load_pantograph
+from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 

@@ -135,7 +135,8 @@ def test_several_speeds_and_forces_run_as_one_batch(capsys):
     whose ``runs`` hold one entry per (speed, force), speed-major, each with the single-run keys and
     the statistics of simulate_many for the same points and numerics (the same engine: exact), and
     the warning that 0.5 m elements under-resolve 160 and 180 km/h."""
-    from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+    from presag_opt.dynamics.batch import simulate_many
+    from presag_opt.dynamics.settings import OperatingPoint
 
     code, out, err = _run(capsys, "--case", "case_study_st98", "--speed", "160,180", "--static-force", "70,120",
                           "--time-step", "2", "--element-length", "0.5", "--json")

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from presag_opt.dynamics import native_sweeps
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.static import native
 
 AERO = 0.00097 * 3.6**2  # the case study's α_ae [N/(m/s)²]

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.dynamics.batch import OperatingPoint, simulate_many
+from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.robust import dynamic_check

@@ -23,17 +23,29 @@ from hypothesis import strategies as st
 
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.empirical import EmpiricalPresag
-from presag_opt.dynamics.batch import OperatingPoint
 from presag_opt.dynamics.integrator import IntegratorSettings
-from presag_opt.dynamics.pantograph import FrictionRegularisation, PantographStage, PenaltyContact, load_pantograph
-from presag_opt.dynamics.settings import Operation, SimulationSettings
+from presag_opt.dynamics.pantograph import (
+    FrictionRegularisation,
+    PantographStage,
+    PenaltyContact,
+    load_pantograph,
+)
+from presag_opt.dynamics.settings import OperatingPoint, Operation, SimulationSettings
 from presag_opt.dynamics.structure import StructureSettings
 from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.dynamic_design import DynamicObjective, SearchSettings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
-from presag_opt.system.catenary import Catenary, Damping, Droppers, SpanLayout, SpringSupport, SteadyArm, Wire
+from presag_opt.system.catenary import (
+    Catenary,
+    Damping,
+    Droppers,
+    SpanLayout,
+    SpringSupport,
+    SteadyArm,
+    Wire,
+)
 from presag_opt.system.loader import load_catenary
 
 EXAMPLES = 60
