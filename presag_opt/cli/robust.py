@@ -133,7 +133,7 @@ def parse_within(text: str) -> float:
         raise ModelError(f"--within = {text!r}: write a percentage such as 10 (or 10%)") from None
 
 
-def _study(args: argparse.Namespace, **kwargs):
+def _study(args: argparse.Namespace, catenary=None, **kwargs):
     from presag_opt.robust import robust_study  # cvxpy is imported only when a robust command runs
 
     try:
@@ -142,7 +142,7 @@ def _study(args: argparse.Namespace, **kwargs):
         raise ModelError(f"--fm-band {exc}") from None
     within = parse_within(args.within)
     plot = output_path(args.plot) if args.plot else None
-    catenary = load_catenary(args.model)
+    catenary = catenary or load_catenary(args.model)
     with progress(args) as report:
         study = robust_study(catenary, fm_band, within=within, progress=report, **kwargs)
     return study, plot
@@ -161,17 +161,20 @@ def robust_command(args: argparse.Namespace) -> int:
     step = 5.0 if args.step_mm is None else args.step_mm
     build = Buildability(step=step * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
     pantograph = _check_pantograph(args)
+    catenary = load_catenary(args.model)
+    window = check_settings(catenary) if args.check_speeds is not None else None
     if args.check_speeds is not None:
-        wave_speed = load_catenary(args.model).contact_wire.wave_speed * 3.6
+        wave_speed = catenary.contact_wire.wave_speed * 3.6
         for speed in args.check_speeds:
             if speed >= wave_speed:
                 raise ModelError(f"--check-speeds {speed:g} km/h is outside the valid range (0, {wave_speed:.0f}) km/h "
                                  "(below the contact-wire wave speed)")
-    study, plot = _study(args, shape=args.shape, risk=risk, buildability=build)
+    study, plot = _study(args, catenary, shape=args.shape, risk=risk, buildability=build)
     _plot(args, study, plot)
     data = study.to_dict()
-    check = _dynamic_check(args, study, pantograph) if args.check_speeds is not None else None
-    if check is not None:
+    check = None
+    if args.check_speeds is not None:
+        check = _dynamic_check(args, study, catenary, pantograph, window, data["reference_span_m"])
         data["dynamic_check"] = check.summary()
     if args.json:
         print_json(data)
@@ -191,7 +194,6 @@ def robust_command(args: argparse.Namespace) -> int:
     low, high = data["tolerance_mm"]
     print(f"\nInstallation tolerance (worst-case R within {data['tolerance_within'] * 100:g} %): {low:.1f}–{high:.1f} mm")
     if check is not None:
-        window = check_settings(load_catenary(args.model))
         print(f"\nDynamic check ({pantograph.name}; F_stat {', '.join(f'{f:g}' for f in _check_forces(args))} N × "
               f"{', '.join(f'{v:g}' for v in args.check_speeds)} km/h; {window.analysed_spans} analysed span(s) after "
               f"{window.lead_in_spans} lead-in, automatic numerics):")
@@ -217,26 +219,24 @@ def _check_pantograph(args: argparse.Namespace):
     return load_pantograph(_dynamic_option(args, "pantograph"))
 
 
-def _dynamic_check(args: argparse.Namespace, study, pantograph):
-    """``--check-speeds``: the study's designs simulated at every static force × speed given."""
+def _dynamic_check(args: argparse.Namespace, study, catenary, pantograph, settings, reference_span: float):
+    """``--check-speeds``: the study's designs simulated at every static force × speed given (reference
+    span in m)."""
     from presag_opt.design.band import KMH
     from presag_opt.robust import dynamic_check
     from presag_opt.robust.dynamic_check import design_catenary
 
-    catenary = load_catenary(args.model)
     designs = {"nominal Δe": study.nominal.presag_rel}
     if study.robust.shape == "per-dropper":
         designs["robust parabola (same LP)"] = study.robust_parabola.presag_rel
         designs["robust per-dropper"] = design_catenary(catenary, study.path, study.robust.depths)
     else:
         designs["robust"] = study.robust.presag_rel
-    data = study.to_dict()
     with progress(args) as report:
         return dynamic_check(catenary, designs, pantograph=pantograph, static_forces=_check_forces(args),
                              speeds=[v * KMH for v in args.check_speeds],
                              aero_coefficient=_dynamic_option(args, "aero") / KMH**2,
-                             reference_span=data["reference_span_m"], settings=check_settings(catenary),
-                             progress=report)
+                             reference_span=reference_span, settings=settings, progress=report)
 
 
 def check_settings(catenary):
