@@ -51,7 +51,7 @@ def _case_and_state(presag_mm: float = 30.0):
 
 
 def side_by_side(repeat: int) -> None:
-    from presag_opt.dynamics import native_sweeps
+    from presag_opt.native import sweeps as native_sweeps
     from presag_opt.dynamics.batch import simulate_many
     from presag_opt.dynamics.settings import OperatingPoint
     from presag_opt.dynamics.simulate import simulate

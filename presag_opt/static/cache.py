@@ -28,10 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
+from presag_opt.native.compiler import default_cache_directory  # noqa: F401 (the command line's cache folder)
+
 CACHE_ENV_OFF = "PRESAG_NO_CACHE"
 """Environment variable that turns the command line's cache off when set to anything but ``0`` or ``""``."""
 
-_SOURCE_PARTS = ("system", "static")
+_SOURCE_PARTS = ("system", "native", "static")
 """Parts of the package whose code determines a form-found state."""
 
 MAX_ENTRIES = 32
@@ -39,12 +41,6 @@ MAX_ENTRIES = 32
 starts new entries, and a mixed section takes about 0.5 MB). [-]"""
 
 _active: Path | None = None
-
-
-def default_cache_directory() -> Path:
-    """``$XDG_CACHE_HOME/presag_opt``, or ``~/.cache/presag_opt``."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "presag_opt"
 
 
 def cache_disabled_by_environment() -> bool:

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from presag_opt.static import native
+from presag_opt import native
 
 CHUNK = 256
 """Elements per call of the compiled code; a section is padded up to whole chunks. [-]"""

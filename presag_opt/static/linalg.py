@@ -23,7 +23,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from presag_opt.static import native
+from presag_opt import native
 
 
 @dataclass(frozen=True)
