@@ -17,6 +17,7 @@ import scipy.sparse as sp
 
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static import cache
+from presag_opt.static.banded_solver import Factor
 from presag_opt.static.discretisation import (
     CONTACT_WIRE,
     DROPPER,
@@ -27,7 +28,6 @@ from presag_opt.static.discretisation import (
     discretise,
     discretise_lone_wire,
 )
-from presag_opt.static.linalg import Factor
 from presag_opt.static.symbolic import (
     PhysicalParameters,
     PotentialFunctions,

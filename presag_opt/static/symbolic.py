@@ -28,9 +28,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from presag_opt.errors import ConvergenceError
-from presag_opt.static.compiled import compile_elements, element_map
+from presag_opt.native.casadi_elements import compile_elements, element_map
+from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
-from presag_opt.static.linalg import BandedSolver
 
 POTENTIAL_INPUTS = (
     "x",
