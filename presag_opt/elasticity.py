@@ -283,7 +283,7 @@ def _load_terms(structure: TensionOnlyStructure, stations: np.ndarray) -> tuple[
     """PᵀK⁻¹P and PᵀW for a unit load at each station; kept per set of stations, since every force
     level of a span uses the same ones."""
     state = structure.state
-    cache = state._cache.setdefault("active_set_loads", {})
+    cache = state.memo.unit_load_terms
     key = np.asarray(stations, dtype=float).tobytes()
     if key not in cache:
         local, vertical, rows = _vertical_load_shapes(state, stations)

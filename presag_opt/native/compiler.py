@@ -1,7 +1,7 @@
 """C libraries built on the user's machine with its C compiler, kept in the cache folder.
 
 Two hot spots run as compiled C when a compiler is available: the static model's axial element
-functions (C that CasADi generates, :mod:`presag_opt.static.compiled`) and the batch simulator's
+functions (C that CasADi generates, :mod:`presag_opt.native.casadi_elements`) and the batch simulator's
 sweeps over all DOFs (:mod:`presag_opt.native.sweeps`). Both give the same numbers as their
 fallbacks to the last bit; only the speed differs.
 

@@ -45,7 +45,7 @@ class BandedSolver:
     _lower: np.ndarray
 
     @classmethod
-    def for_pattern(cls, pattern: sp.csc_matrix) -> "BandedSolver":
+    def for_pattern(cls, pattern: sp.csc_matrix) -> BandedSolver:
         """Analyse a symmetric sparsity pattern once."""
         pattern = sp.csc_matrix(pattern)
         perm = reverse_cuthill_mckee(pattern, symmetric_mode=True)
@@ -62,7 +62,7 @@ class BandedSolver:
         """The matrix with the pattern and the given nonzero values."""
         return sp.csc_matrix((data, self.pattern.indices, self.pattern.indptr), shape=self.pattern.shape)
 
-    def factorise(self, data: np.ndarray) -> "Factor":
+    def factorise(self, data: np.ndarray) -> Factor:
         """Factorise the matrix with nonzero values ``data`` (in the pattern's CSC order)."""
         n = self.pattern.shape[0]
         band = np.zeros((self.bandwidth + 1, n))
