@@ -116,7 +116,8 @@ class _MappedCall:
     ``Function.__call__`` converts every numpy input to a DM and every DM output back through Python
     lists, which cost more than the evaluation itself in the Newton loops of the elasticity (about
     two thirds of ``presag elasticity``). The buffer interface reads and writes numpy arrays in
-    place. One instance per thread (see :func:`_mapped_call`), since the buffers are shared state.
+    place. One instance per function and thread (:meth:`PotentialFunctions._call`), since the buffers
+    are shared state.
 
     Parameters
     ----------
@@ -147,20 +148,6 @@ class _MappedCall:
         self.trigger()
         return [out[: self.count].T.copy() for out in self.outputs]
 
-
-_CALLS = threading.local()
-
-
-def _mapped_call(function: ca.Function, count: int) -> _MappedCall:
-    """This thread's buffered evaluator of a mapped element function over ``count`` elements (kept by
-    the function's name, which holds its mapped size, and the count)."""
-    calls = _CALLS.__dict__.setdefault("calls", {})
-    key = (function.name(), count)
-    if key not in calls:
-        if len(calls) >= 16:  # a few discretisations at a time; drop the oldest
-            calls.pop(next(iter(calls)))
-        calls[key] = _MappedCall(function, count)
-    return calls[key]
 
 # Entry (i, j) of the 6×6 element Hessian, column-major (j·6 + i), from the 3×3 one in d = x_b − x_a:
 # H6[i, j] = σ_i σ_j H3[i mod 3, j mod 3] with σ = −1 on node a, +1 on node b.
@@ -204,11 +191,22 @@ class PotentialFunctions:
     _extra_slots: dict  # data indices and values of the ground springs and curve pins (build_potential)
     _bending_memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     """The bending Hessian of the last set of EI values (:meth:`_bending_terms`)."""
+    _threads: threading.local = field(default_factory=threading.local, init=False, repr=False, compare=False)
+    """Each thread's buffered evaluators of the mapped axial functions (:meth:`_call`)."""
+
+    def _call(self, function: ca.Function) -> _MappedCall:
+        """This thread's buffered evaluator of one of the mapped axial functions (built on first use)."""
+        calls = getattr(self._threads, "calls", None)
+        if calls is None:
+            calls = self._threads.calls = {}
+        if function.name() not in calls:
+            calls[function.name()] = _MappedCall(function, self._axial_dofs.shape[1])
+        return calls[function.name()]
 
     def _element_terms(self, x: np.ndarray, params: PhysicalParameters):
         """Energies, gradients (6 per element) and Hessian entries (36 per element, in the order of
         ``_hessian_slots``) of the axial elements (one mapped CasADi call)."""
-        energy, grad, hess = _mapped_call(self._axial, self._axial_dofs.shape[1])(*self._axial_inputs(x, params))
+        energy, grad, hess = self._call(self._axial)(*self._axial_inputs(x, params))
         grad6 = np.vstack([-grad, grad])
         hess6 = _AXIAL_SIGNS[:, None] * hess[_AXIAL_ENTRY]
         return energy.ravel(), grad6.ravel(), hess6.ravel()
@@ -295,8 +293,8 @@ class PotentialFunctions:
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
         """Total potential energy. [J]"""
         disc = self.discretisation
-        count = self._axial_dofs.shape[1]
-        total = -float(params.nodal_force @ x) + float(_mapped_call(self._axial_energy, count)(*self._axial_inputs(x, params))[0].sum())
+        axial = self._call(self._axial_energy)(*self._axial_inputs(x, params))[0]
+        total = -float(params.nodal_force @ x) + float(axial.sum())
         if self._bending is not None:
             total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
         if len(disc.spring_dofs):
