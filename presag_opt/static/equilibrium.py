@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -28,6 +29,9 @@ from presag_opt.static.discretisation import (
 from presag_opt.static.newton import NewtonTerms, newton_equilibrium, newton_solve
 from presag_opt.static.potential import PhysicalParameters, PotentialFunctions, build_potential
 from presag_opt.system.catenary import Catenary, Damping, Wire
+
+if TYPE_CHECKING:
+    from presag_opt.static.linearised import TensionOnlyStructure
 
 
 @dataclass(slots=True)
@@ -58,7 +62,7 @@ class StateMemo:
     factor: Factor | None = None
     newton_terms: NewtonTerms | None = None
     dropper_sensitivity: np.ndarray | None = None
-    tension_only: object | None = None
+    tension_only: TensionOnlyStructure | None = None
     unit_load_terms: dict = field(default_factory=dict)
 
 
