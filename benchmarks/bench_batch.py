@@ -41,7 +41,7 @@ MEMORY_LIMIT_GIB = 4.0
 def _case_and_state(presag_mm: float = 30.0):
     from presag_opt.dynamics.case import load_case
     from presag_opt.dynamics.settings import SimulationSettings
-    from presag_opt.static.equilibrium import form_find
+    from presag_opt.static.form_finding import form_find
 
     case = load_case("case_study_st98")
     settings = SimulationSettings(analysed_spans=case.settings.analysed_spans,
@@ -51,7 +51,7 @@ def _case_and_state(presag_mm: float = 30.0):
 
 
 def side_by_side(repeat: int) -> None:
-    from presag_opt.dynamics import native_sweeps
+    from presag_opt.native import sweeps as native_sweeps
     from presag_opt.dynamics.batch import simulate_many
     from presag_opt.dynamics.settings import OperatingPoint
     from presag_opt.dynamics.simulate import simulate

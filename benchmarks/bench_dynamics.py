@@ -27,7 +27,7 @@ import time
 from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.validation import en50318_verdicts
 
 

@@ -16,7 +16,7 @@ from _targets import MIN_REPEAT, Targets, median_time
 
 from presag_opt.design import CASE_STUDY_BAND, force_levels_for_band, section_elasticity
 from presag_opt.robust import ForceScenarios, Risk, build_path_model, robust_presag, robust_study
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.loader import load_catenary
 
 

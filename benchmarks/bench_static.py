@@ -19,14 +19,14 @@ import numpy as np
 from _targets import Targets, median_time
 
 from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
-from presag_opt.static import equilibrium
+from presag_opt.static import equilibrium, form_finding
 from presag_opt.static.discretisation import CONTACT_WIRE, MESSENGER_WIRE, StaticSettings
 from presag_opt.system.loader import load_catenary
 
 
 def cold_form_find(name: str):
     equilibrium._static_model.cache_clear()
-    return equilibrium.form_find(load_catenary(name))
+    return form_finding.form_find(load_catenary(name))
 
 
 def main() -> int:
@@ -39,12 +39,12 @@ def main() -> int:
     print("== form-finding (median of", r, "runs)")
     for name, target in (("st_9.8_ideal", 2.0), ("st_9.8_mixed", 10.0)):
         cold, state = median_time(lambda: cold_form_find(name), r)
-        warm, _ = median_time(lambda: equilibrium.form_find(load_catenary(name)), r)
+        warm, _ = median_time(lambda: form_finding.form_find(load_catenary(name)), r)
         print(f"{name:14s} cold {cold:6.2f} s  warm {warm:6.2f} s  "
               f"nodes {state.discretisation.n_nodes}, free DOFs {len(state.model.functions.free_dofs)}")
         targets.below(f"form-finding {name}, cold", cold, target)
 
-    state = equilibrium.form_find(load_catenary("st_9.8_ideal"))
+    state = form_finding.form_find(load_catenary("st_9.8_ideal"))
     print("\n== elasticity, central span of st_9.8_ideal")
 
     def fresh_linear():
@@ -84,14 +84,14 @@ def main() -> int:
     central = disc.dropper_span == cat.layout.central_span
     d = state.dropper_lengths()[central]
     print(f"central-span dropper asymmetry {np.abs(d - d[::-1]).max() * 1e3:.4f} mm; min dropper force {state.dropper_forces().min():.1f} N")
-    fine = equilibrium.form_find(cat, StaticSettings(element_length=0.25))
+    fine = form_finding.form_find(cat, StaticSettings(element_length=0.25))
     lf = linear_elasticity(fine)
     print(f"element 0.5 -> 0.25 m: e_mid {lin.e_mid * 1e3:.4f} -> {lf.e_mid * 1e3:.4f} mm/N "
           f"({(lf.e_mid / lin.e_mid - 1) * 100:+.2f} %), Δe {lin.delta_e * 1e3:.4f} -> {lf.delta_e * 1e3:.4f} "
           f"({(lf.delta_e / lin.delta_e - 1) * 100:+.2f} %)")
     for name in ("st_9.8_ideal", "st_7.1_ideal"):
         c = load_catenary(name)
-        s = equilibrium.form_find(c)
+        s = form_finding.form_find(c)
         e = linear_elasticity(s)
         emp = 60.0 / (4 * (c.contact_wire.tension + c.messenger_wire.tension))
         print(f"{name}: e_mid {e.e_mid * 1e3:.3f} mm/N = {e.e_mid / emp:.3f} x empirical {emp * 1e3:.3f}; "

@@ -30,7 +30,10 @@ _API = {
         "StaticSettings",
     ),
     "presag_opt.static.equilibrium": (
-        "EquilibriumState", "dropper_height_sensitivity", "form_find",
+        "EquilibriumState",
+    ),
+    "presag_opt.static.form_finding": (
+        "dropper_height_sensitivity", "form_find",
     ),
     "presag_opt.static.linearised": (
         "TensionOnlyStructure",

@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from presag_opt.design import recommend, section_elasticity
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 

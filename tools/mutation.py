@@ -31,8 +31,10 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
     "static": (
         [
             "presag_opt/static/discretisation.py",
-            "presag_opt/static/symbolic.py",
+            "presag_opt/static/potential.py",
+            "presag_opt/static/newton.py",
             "presag_opt/static/equilibrium.py",
+            "presag_opt/static/form_finding.py",
             "presag_opt/static/linearised.py",
         ],
         [

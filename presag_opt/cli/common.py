@@ -310,7 +310,8 @@ def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: Static
     settings : StaticSettings
         Numerical settings.
     """
-    from presag_opt.static.equilibrium import form_find, form_find_estimate
+    from presag_opt.static.form_finding import form_find
+    from presag_opt.static.run_time import form_find_estimate
 
     n_nodes, seconds = form_find_estimate(catenary, settings)
     if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):

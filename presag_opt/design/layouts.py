@@ -28,7 +28,7 @@ from presag_opt.design.recommendation import Recommendation, layout_recommendati
 from presag_opt.design.section import section_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary, SpanLayout
 
 

@@ -26,7 +26,8 @@ from presag_opt.elasticity import METHODS as ELASTICITY_METHODS
 from presag_opt.elasticity import ElasticityCurve, ElasticityStudy, elasticity_study
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 

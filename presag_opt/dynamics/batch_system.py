@@ -17,15 +17,16 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import batch_newton, kernel, native_sweeps
+from presag_opt.dynamics import batch_newton, kernel
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_contact
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
+from presag_opt.native import sweeps as native_sweeps
+from presag_opt.native.banded_numba import banded_cholesky_solve
+from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.static.kernels import banded_cholesky_solve
-from presag_opt.static.linalg import BandedSolver
 
 CHUNK_STEPS = 250
 """Time steps per call of the compiled kernel: Ctrl-C is honoured between calls. [-]"""

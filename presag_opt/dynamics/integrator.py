@@ -45,7 +45,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.static.linalg import BandedSolver
+from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.system.quantity import quantity, validate_fields
 
 SCHEMES = ("newmark", "hht")

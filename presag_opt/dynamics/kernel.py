@@ -39,7 +39,7 @@ from presag_opt.dynamics.batch_newton import (
     newton_step,
     nonlinear_forces,
 )
-from presag_opt.static.kernels import backward_substitution
+from presag_opt.native.banded_numba import backward_substitution
 
 SHARED = (
     "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",

@@ -71,7 +71,8 @@ from presag_opt.dynamics.statistics import (
     lowpass_filter,
 )
 from presag_opt.dynamics.structure import StructuralModel, structural_model
-from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 

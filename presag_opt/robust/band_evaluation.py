@@ -27,7 +27,7 @@ from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import worker_pool
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 OBJECTIVES = ("sigma-over-fm", "sigma")

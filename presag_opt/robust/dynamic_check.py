@@ -23,7 +23,7 @@ from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.operating_grid import band_static_settings
 from presag_opt.robust.path import PathModel
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 

@@ -27,7 +27,8 @@ import scipy.sparse as sp
 from presag_opt.design.quasi_static import interpolate_elasticity
 from presag_opt.design.section import SectionElasticity
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import EquilibriumState, dropper_height_sensitivity
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import dropper_height_sensitivity
 
 
 SENSITIVITY_CUTOFF = 1e-9

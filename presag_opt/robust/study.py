@@ -21,7 +21,7 @@ from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 from presag_opt.robust.tolerance import ToleranceBand, tolerance_band
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 
 
 @dataclass(frozen=True, kw_only=True)

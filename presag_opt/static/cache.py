@@ -23,15 +23,22 @@ import hashlib
 import os
 import tempfile
 import zipfile
+from dataclasses import fields
 from importlib import metadata
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+from presag_opt.native.compiler import default_cache_directory  # noqa: F401 (the command line's cache folder)
+
+if TYPE_CHECKING:
+    from presag_opt.static.equilibrium import EquilibriumState, StaticModel
 
 CACHE_ENV_OFF = "PRESAG_NO_CACHE"
 """Environment variable that turns the command line's cache off when set to anything but ``0`` or ``""``."""
 
-_SOURCE_PARTS = ("system", "static")
+_SOURCE_PARTS = ("system", "native", "static")
 """Parts of the package whose code determines a form-found state."""
 
 MAX_ENTRIES = 32
@@ -39,12 +46,6 @@ MAX_ENTRIES = 32
 starts new entries, and a mixed section takes about 0.5 MB). [-]"""
 
 _active: Path | None = None
-
-
-def default_cache_directory() -> Path:
-    """``$XDG_CACHE_HOME/presag_opt``, or ``~/.cache/presag_opt``."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "presag_opt"
 
 
 def cache_disabled_by_environment() -> bool:
@@ -136,3 +137,32 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
             stale.unlink(missing_ok=True)
     except OSError:
         Path(temporary).unlink(missing_ok=True)  # a full disk must not stop it either
+
+
+def state_arrays(state: EquilibriumState) -> dict[str, np.ndarray]:
+    """The numeric content of a state, as stored: coordinates [m], applied load [N], iterations [-]
+    and the element parameters (``params_<field>``, in their units)."""
+    names = [f.name for f in fields(state.params)]
+    return {"positions": state.positions, "applied_load": state.applied_load,
+            "iterations": np.array(state.iterations), **{f"params_{n}": getattr(state.params, n) for n in names}}
+
+
+def state_from_arrays(model: StaticModel, arrays: dict[str, np.ndarray] | None) -> EquilibriumState | None:
+    """A state of ``model`` from stored arrays, or None when they are missing or do not fit the model."""
+    from presag_opt.static.equilibrium import EquilibriumState  # the static model loads CasADi
+    from presag_opt.static.potential import PhysicalParameters
+
+    if arrays is None:
+        return None
+    disc = model.discretisation
+    try:
+        params = PhysicalParameters(**{f.name: arrays[f"params_{f.name}"] for f in fields(PhysicalParameters)})
+        state = EquilibriumState(model, arrays["positions"], params, arrays["applied_load"], int(arrays["iterations"]))
+    except (KeyError, TypeError, ValueError):
+        return None
+    expected = {"positions": (disc.n_nodes, 3), "applied_load": (disc.n_dofs,),
+                "params_axial_stiffness": (len(disc.axial),), "params_unstretched_length": (len(disc.axial),),
+                "params_nodal_force": (disc.n_dofs,)}
+    if any(arrays[name].shape != shape for name, shape in expected.items()):
+        return None
+    return state

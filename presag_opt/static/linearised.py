@@ -58,7 +58,7 @@ class TensionOnlyStructure:
         state : EquilibriumState
             Equilibrium with every dropper in tension.
         """
-        if "tension_only" not in state._cache:
+        if state.memo.tension_only is None:
             disc = state.discretisation
             free = state.model.functions.free_dofs
             drops = disc.dropper_elements
@@ -72,7 +72,7 @@ class TensionOnlyStructure:
                 full[3 * ax.node_a[drops] + c, cols] = -d[:, c]
             gradients = full[free]
             influence = state.factorised_stiffness().solve(gradients)
-            state._cache["tension_only"] = cls(
+            state.memo.tension_only = cls(
                 state=state,
                 gradients=gradients,
                 influence=influence,
@@ -80,7 +80,7 @@ class TensionOnlyStructure:
                 preload=state.dropper_forces(),
                 stiffness=state.params.axial_stiffness[drops],
             )
-        return state._cache["tension_only"]
+        return state.memo.tension_only
 
     def slack_set(
         self, load_stretch: np.ndarray, slack: np.ndarray | None = None, *, max_iterations: int | None = None

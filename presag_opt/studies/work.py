@@ -27,7 +27,8 @@ from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.speed import speed_ratio
-from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.system.catenary import Catenary
 

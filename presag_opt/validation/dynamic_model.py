@@ -35,7 +35,8 @@ from presag_opt.dynamics.simulate import simulate
 from presag_opt.elasticity import linear_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
 
 CONSTANT_FORCE_PANTOGRAPH = Pantograph(
     name="constant force (no frame spring, no friction)",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from presag_opt.dynamics.case import load_case
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 
 

@@ -22,7 +22,7 @@ from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.simulate import simulate
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Damping
 
 SIGMA_TOL = 3e-3

@@ -147,7 +147,7 @@ def test_several_speeds_and_forces_run_as_one_batch(capsys):
     for run in printed["runs"]:
         assert set(REQUIRED_KEYS) | {"analysed_spans", "time_step_ms", "wall_time_s"} <= set(run)
     case = load_case("case_study_st98")
-    from presag_opt.static.equilibrium import form_find
+    from presag_opt.static.form_finding import form_find
 
     state = form_find(case.catenary, case.settings.static)
     api = simulate_many(state, case.pantograph, [OperatingPoint(

@@ -14,10 +14,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from presag_opt.dynamics import native_sweeps
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint
-from presag_opt.static import native
+from presag_opt.native import compiler as native
+from presag_opt.native import sweeps as native_sweeps
 
 AERO = 0.00097 * 3.6**2  # the case study's α_ae [N/(m/s)²]
 

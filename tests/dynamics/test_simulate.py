@@ -16,7 +16,7 @@ from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 from presag_opt.validation import EN50318_RANGES, en50318_verdicts

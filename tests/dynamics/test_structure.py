@@ -9,7 +9,7 @@ from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
 from presag_opt.dynamics.structure import StructureSettings, rayleigh_coefficients, structural_model
 from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.loader import load_catenary
 
 

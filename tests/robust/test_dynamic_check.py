@@ -13,7 +13,7 @@ from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.robust import dynamic_check
 from presag_opt.robust.dynamic_check import design_catenary
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 

@@ -23,7 +23,7 @@ from presag_opt.robust.band_evaluation import BandEvaluator
 from presag_opt.robust.dynamic_design import DynamicObjective, SearchSettings, dynamic_robust_presag
 from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 

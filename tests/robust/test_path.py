@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.static.equilibrium import dropper_height_sensitivity, form_find
+from presag_opt.static.form_finding import dropper_height_sensitivity, form_find
 
 
 def test_form_found_geometry_is_affine_in_the_dropper_targets(st98):

@@ -37,30 +37,30 @@ def _small_model(tmp_path: Path, height: float = 5.3) -> Path:
 
 
 def test_cache_returns_the_same_state_and_a_changed_model_is_recomputed(tmp_path, cache_folder, monkeypatch):
-    from presag_opt.static import equilibrium
+    from presag_opt.static import form_finding
     from presag_opt.system.loader import load_catenary
 
     model = _small_model(tmp_path)
     assert "span_count = { value = 3" in model.read_text()
-    first = equilibrium.form_find(load_catenary(model))
+    first = form_finding.form_find(load_catenary(model))
     assert len(list(cache_folder.glob("state-*.npz"))) == 1
 
     def no_solve(*args):
         raise AssertionError("form-finding ran although the state is cached")
 
     with monkeypatch.context() as patch:
-        patch.setattr(equilibrium, "_form_find", no_solve)
-        again = equilibrium.form_find(load_catenary(model))
+        patch.setattr(form_finding, "_form_find", no_solve)
+        again = form_finding.form_find(load_catenary(model))
     np.testing.assert_array_equal(again.positions, first.positions)
     np.testing.assert_array_equal(again.params.unstretched_length, first.params.unstretched_length)
 
-    changed = equilibrium.form_find(load_catenary(_small_model(tmp_path, height=5.5)))  # the file edited
+    changed = form_finding.form_find(load_catenary(_small_model(tmp_path, height=5.5)))  # the file edited
     assert len(list(cache_folder.glob("state-*.npz"))) == 2
     assert changed.positions[:, 2].max() > first.positions[:, 2].max()
 
 
 def test_a_corrupt_cache_file_is_ignored_and_rewritten(tmp_path, cache_folder):
-    from presag_opt.static.equilibrium import form_find
+    from presag_opt.static.form_finding import form_find
     from presag_opt.system.loader import load_catenary
 
     catenary = load_catenary(_small_model(tmp_path))

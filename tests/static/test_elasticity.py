@@ -10,7 +10,7 @@ import pytest
 from presag_opt.elasticity import elasticity_study, linear_elasticity, nonlinear_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 
 

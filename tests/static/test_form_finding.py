@@ -9,7 +9,8 @@ import pytest
 
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import CONTACT_WIRE, MESSENGER_WIRE
-from presag_opt.static.equilibrium import force_tolerance, form_find
+from presag_opt.static.form_finding import form_find
+from presag_opt.static.newton import force_tolerance
 from presag_opt.system.loader import load_catenary
 
 

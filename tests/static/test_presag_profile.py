@@ -8,7 +8,7 @@ import pytest
 from presag_opt.errors import ModelError
 from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 

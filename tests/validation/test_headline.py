@@ -17,7 +17,7 @@ import pytest
 from presag_opt.design import CASE_STUDY_BAND, layout_recommendation, section_elasticity
 from presag_opt.elasticity import linear_elasticity
 from presag_opt.robust import build_path_model, robust_study
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.loader import load_catenary
 from presag_opt.validation import PAPER_RECOMMENDATION, PAPER_TABLE1, PAPER_TABLE2_MM, table2_row
 

@@ -37,7 +37,7 @@ def test_single_curve_error_against_direct_newton_curves(ideal98, ideal98_70mm):
     70 mm geometry is the better one for a single curve) holds in both.
     """
     from presag_opt.elasticity import nonlinear_elasticity
-    from presag_opt.static.equilibrium import form_find
+    from presag_opt.static.form_finding import form_find
 
     direct = {}
     for section in (ideal98, ideal98_70mm):

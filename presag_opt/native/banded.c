@@ -1,9 +1,9 @@
 /* Banded Cholesky solve with many right-hand sides, in C.
 
-   Built by presag_opt.static.native_banded and called from presag_opt.static.linalg in place of
-   the numba kernel presag_opt.static.kernels.banded_cholesky_solve: the same operations in the same
-   order (compiled with -ffp-contract=off, no fast-math), so the same numbers to the last bit,
-   without importing numba (about half a second of a command's start).
+   Built by presag_opt.native.compiler and called from presag_opt.native.banded (the "compiled"
+   back-end) in place of its numba twin presag_opt.native.banded_numba.banded_cholesky_solve: the
+   same operations in the same order (compiled with -ffp-contract=off, no fast-math), so the same
+   numbers to the last bit, without importing numba (about half a second of a command's start).
 
    factor: the Cholesky factor by rows, factor[j, k] = L[j + k, j], shape (n, width), C order.
    x: right-hand sides, shape (n, ld), C order; its first `columns` columns are overwritten by the

@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.static import compiled, native
+from presag_opt.native import casadi_elements as compiled
+from presag_opt.native import compiler as native
 from presag_opt.static.equilibrium import lone_wire_state
-from presag_opt.static.symbolic import build_potential
+from presag_opt.static.potential import build_potential
 from presag_opt.system.catenary import Wire
 
 

@@ -1,8 +1,8 @@
 """C libraries built on the user's machine with its C compiler, kept in the cache folder.
 
 Two hot spots run as compiled C when a compiler is available: the static model's axial element
-functions (C that CasADi generates, :mod:`presag_opt.static.compiled`) and the batch simulator's
-sweeps over all DOFs (:mod:`presag_opt.dynamics.native_sweeps`). Both give the same numbers as their
+functions (C that CasADi generates, :mod:`presag_opt.native.casadi_elements`) and the batch simulator's
+sweeps over all DOFs (:mod:`presag_opt.native.sweeps`). Both give the same numbers as their
 fallbacks to the last bit; only the speed differs.
 
 :func:`build` compiles a source text with ``$CC`` (default ``cc``) into
@@ -26,7 +26,14 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-from presag_opt.static import cache
+
+def default_cache_directory() -> Path:
+    """``$XDG_CACHE_HOME/presag_opt``, or ``~/.cache/presag_opt``: the package's folder in the user's
+    cache (compiled libraries in its ``compiled`` subfolder, form-found states in
+    :mod:`presag_opt.static.cache`)."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "presag_opt"
+
 
 COMPILE_ENV_OFF = "PRESAG_NO_COMPILE"
 """Environment variable that, set to anything but "" or "0", turns all compiled code off."""
@@ -79,7 +86,7 @@ def _build(stem: str, source: str, flags: tuple[str, ...]) -> Path | None:
         return None
     machine = _processor() if "-march=native" in flags else platform.machine()
     key = hashlib.sha256("\0".join([source, *flags, compiler, machine]).encode()).hexdigest()[:20]
-    folder = cache.default_cache_directory() / "compiled"
+    folder = default_cache_directory() / "compiled"
     target = folder / f"{stem}-{key}.so"
     if target.exists():
         return target

@@ -26,8 +26,8 @@ from pathlib import Path
 
 from numba import njit, types
 
+from presag_opt import native
 from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step, update_constants
-from presag_opt.static import native
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""

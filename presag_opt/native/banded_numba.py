@@ -1,10 +1,14 @@
-"""Compiled banded substitutions (numba), shared by the static solves and the batch simulator.
+"""The banded substitutions in numba: the twin of ``banded.c``, and the batch simulator's back half.
 
 A symmetric positive definite matrix ordered along the track is a narrow band; its Cholesky factor
 L is stored here row by row, ``factor[j, k] = L[j + k, j]`` (the transpose of LAPACK's lower band
 storage), so that the entries a substitution step reads are adjacent in memory. The right-hand sides
 are the columns of a C-ordered array: the innermost loop runs over them, which vectorises when there
-are several. Imported only where it is used (numba loads in about a second).
+are several. :func:`banded_cholesky_solve` does the operations of ``banded.c`` in the same order
+(the same numbers to the last bit); it is the ``"numba"`` back-end of
+:func:`presag_opt.native.banded.cholesky_solve` and the batch simulator's unit solves.
+:func:`backward_substitution` is its second half, which the batch simulator's step calls after its
+own fused forward sweep. Imported only where it is used (numba loads in about a second).
 """
 
 from __future__ import annotations

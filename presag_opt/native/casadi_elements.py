@@ -9,7 +9,7 @@ it is compiled without fast-math.
 
 The C code is generated for a fixed chunk of :data:`CHUNK` elements, so that one library serves
 every discretisation: a section's elements are padded up to whole chunks (the padding's results are
-discarded). The library is compiled by :func:`presag_opt.static.native.build` into the user's
+discarded). The library is compiled by :func:`presag_opt.native.build` into the user's
 cache folder, named by a hash of its source (which names the CasADi version), the flags and the
 compiler, so a change of any of them builds a new one; building takes about a quarter of a second.
 Without a working compiler, or with ``PRESAG_NO_COMPILE=1``, the functions run
@@ -25,14 +25,14 @@ from pathlib import Path
 
 import casadi as ca
 
-from presag_opt.static import native
+from presag_opt import native
 
 CHUNK = 256
 """Elements per call of the compiled code; a section is padded up to whole chunks. [-]"""
 
 COMPILE_ENV_OFF = native.COMPILE_ENV_OFF
 """Environment variable that, set to anything but "" or "0", keeps the element functions in
-CasADi's virtual machine (see :mod:`presag_opt.static.native`)."""
+CasADi's virtual machine (see :mod:`presag_opt.native.compiler`)."""
 
 
 def element_map(function: ca.Function, count: int) -> tuple[ca.Function, int]:

@@ -1,0 +1,117 @@
+"""The form-finding equations solved with IPOPT: the method, and its options.
+
+:func:`solve_form_finding` hands the square system of :mod:`presag_opt.static.form_finding_equations`
+to IPOPT (through CasADi's ``nlpsol``) as a feasibility problem (zero objective) with the options
+:data:`IPOPT_OPTIONS`, and returns a :class:`FormFindingSolution`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from presag_opt.errors import ConvergenceError
+from presag_opt.static.discretisation import Discretisation
+from presag_opt.static.form_finding_equations import form_finding_system
+from presag_opt.static.potential import PhysicalParameters
+
+
+@dataclass(frozen=True, kw_only=True)
+class FormFindingSolution:
+    """What the form-finding NLP returns (numeric).
+
+    Attributes
+    ----------
+    positions : ndarray, shape (n_nodes, 3)
+        Equilibrium coordinates including the steady-arm pivots. [m]
+    dropper_unstretched_length : ndarray
+        Unstretched length of each dropper. [m]
+    spring_reference : ndarray
+        Unloaded position of each ground spring. [m]
+    iterations : int
+        IPOPT iterations. [-]
+    """
+
+    positions: np.ndarray
+    dropper_unstretched_length: np.ndarray
+    spring_reference: np.ndarray
+    iterations: int
+
+IPOPT_OPTIONS = (
+    ("print_level", 0),
+    ("sb", "yes"),
+    ("tol", 1e-8),
+    ("constr_viol_tol", 1e-6),
+    ("max_iter", 100),
+    ("hessian_approximation", "limited-memory"),
+    ("linear_solver", "mumps"),
+)
+"""IPOPT's options for the form-finding solve: silent; converged at a scaled residual of 1e-8 and
+an equation violation of 1e-6 N (the Newton relaxation that follows meets the force tolerance);
+at most 100 iterations; limited-memory Hessian (the system is square, the objective zero); MUMPS."""
+
+
+def solve_form_finding(
+    disc: Discretisation,
+    params: PhysicalParameters,
+    wire_tension: np.ndarray,
+    target_dofs: np.ndarray,
+    x_design: np.ndarray,
+) -> FormFindingSolution:
+    """Solve the form-finding equations with IPOPT.
+
+    The wire nodes keep their designed position along the wire (droppers vertical, clamps where the
+    design puts them), so every wire element acts as a string of constant horizontal tension H:
+    energy ``H l_h + H/(2 l_h₀) (Δz)²`` with ``l_h`` its horizontal length. Unknowns: the heights
+    of the wire nodes, their sideways (in-plan, across the wire) positions, the dropper unstretched
+    lengths, the steady-arm pivot positions (across the track and vertically, in the mast plane) and
+    the ground-spring references. Equations: vertical and sideways equilibrium at every free node,
+    equilibrium across the track at every steady-arm clamp (whose lateral position is the stagger),
+    and the designed height at ``target_dofs``. The system is
+    square; IPOPT solves it as a feasibility problem (zero objective).
+
+    Parameters
+    ----------
+    disc : Discretisation
+        Topology.
+    params : PhysicalParameters
+        Parameter values; dropper lengths and spring references are starting values.
+    wire_tension : ndarray
+        Horizontal tension of each axial element that is a wire segment, 0 for the others. [N]
+    target_dofs : ndarray of int
+        Degrees of freedom (heights) that must keep their design value.
+    x_design : ndarray
+        Design coordinates (first-guess pivots). [m]
+
+    Raises
+    ------
+    ConvergenceError
+        If IPOPT does not report success.
+    """
+    system = form_finding_system(disc, params, wire_tension, target_dofs, x_design)
+    solver = ca.nlpsol(
+        "form_finding",
+        "ipopt",
+        {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations},
+        {"print_time": False, "ipopt": dict(IPOPT_OPTIONS)},
+    )
+    targets = x_design[target_dofs]
+    result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
+    stats = solver.stats()
+    if not stats.get("success", False):
+        raise ConvergenceError(
+            f"form-finding did not converge: IPOPT status {stats.get('return_status')!r} "
+            f"after {stats.get('iter_count')} iterations",
+            stats,
+        )
+    sol = np.asarray(result["x"]).ravel()
+    positions = np.asarray(ca.Function("x_of_v", [system.unknowns, system.targets], [system.coordinates])(sol, targets)).ravel()
+    start = len(system.z_unknown) + system.n_side + 2 * system.n_arm
+    return FormFindingSolution(
+        positions=positions.reshape(-1, 3),
+        dropper_unstretched_length=sol[start : start + system.n_drop],
+        spring_reference=sol[start + system.n_drop :],
+        iterations=int(stats.get("iter_count", -1)),
+    )

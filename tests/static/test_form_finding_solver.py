@@ -1,0 +1,53 @@
+"""The IPOPT solve of the form-finding equations: it holds the targets and gives droppers that carry
+the wire, and a solve that IPOPT cannot finish raises with IPOPT's status (the balance of the result
+is checked through form_find in test_form_finding.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presag_opt.errors import ConvergenceError
+from presag_opt.static import form_finding, form_finding_solver
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import static_model
+from presag_opt.static.potential import PhysicalParameters
+from presag_opt.system.catenary import SpanLayout
+from presag_opt.system.loader import load_catenary
+
+
+@pytest.fixture(scope="module")
+def problem():
+    """The first pass of form-finding of three coarse spans: its inputs, from form_find's own helpers."""
+    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
+    disc = static_model(catenary, StaticSettings(element_length=1.0)).discretisation
+    ax = disc.axial
+    x_design = disc.design_positions.ravel()
+    params = PhysicalParameters(
+        axial_stiffness=ax.stiffness, unstretched_length=ax.design_length.copy(), slack_allowed=np.zeros(len(ax)),
+        bending_stiffness=disc.bending.bending_stiffness, spring_stiffness=disc.spring_stiffness,
+        spring_reference=x_design[disc.spring_dofs], nodal_force=disc.gravity_force() + disc.termination_force,
+    )
+    return disc, params, form_finding._horizontal_wire_tension(disc), form_finding._target_dofs(disc), x_design
+
+
+def test_the_solution_holds_the_targets_and_balances_the_equations(problem):
+    """Targets are substituted, so they hold exactly; the equations to IPOPT's constraint tolerance."""
+    disc, params, tension, targets, x_design = problem
+    solution = form_finding_solver.solve_form_finding(disc, params, tension, targets, x_design)
+    x = solution.positions.ravel()
+    assert np.array_equal(x[targets], x_design[targets])
+    assert len(solution.dropper_unstretched_length) == len(disc.dropper_elements)
+    assert np.all(solution.dropper_unstretched_length > 0.0)
+    assert 0 < solution.iterations <= dict(form_finding_solver.IPOPT_OPTIONS)["max_iter"]
+    # the droppers carry the contact wire: each is stretched between its clamps in the solution
+    ax, drops = disc.axial, disc.dropper_elements
+    clamps = np.linalg.norm(solution.positions[ax.node_b[drops]] - solution.positions[ax.node_a[drops]], axis=1)
+    assert np.all(solution.dropper_unstretched_length < clamps)
+
+
+def test_an_unfinished_solve_raises_with_the_ipopt_status(problem, monkeypatch):
+    options = tuple((k, 1 if k == "max_iter" else v) for k, v in form_finding_solver.IPOPT_OPTIONS)
+    monkeypatch.setattr(form_finding_solver, "IPOPT_OPTIONS", options)
+    with pytest.raises(ConvergenceError, match="form-finding did not converge: IPOPT status 'Maximum_Iterations"):
+        form_finding_solver.solve_form_finding(*problem)
