@@ -178,6 +178,9 @@ class Decision:
     def lines(self, span_length: float) -> list[str]:
         """The decision as printed: headline, reason, what was not checked, the alternatives."""
         out = [self.headline(span_length), f"  why: {self.reason}"]
+        details = (_uplift_text(self.chosen, self.inputs.uplift_limit) + _tolerance_text(self.chosen, span_length)).strip(", ")
+        if details:
+            out.append(f"  chosen: {details}")
         if self.inputs.not_checked:
             out.append("  not checked: " + "; ".join(self.inputs.not_checked))
         for c in self.alternatives:

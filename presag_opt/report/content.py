@@ -17,6 +17,14 @@ import numpy as np
 import xarray as xr
 
 from presag_opt.design.band import CASE_STUDY_BAND, KMH, OperatingBand
+from presag_opt.design.decision import (
+    DELTA_E_RULE,
+    QUASI_STATIC_ROBUST,
+    Candidate,
+    Decision,
+    DecisionInputs,
+    decide,
+)
 from presag_opt.design.recommendation import CASE_STUDY_MODELS, CASE_STUDY_SPAN_LENGTH, Recommendation, recommend
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
 from presag_opt.dynamics.pantograph import load_pantograph
@@ -157,6 +165,8 @@ class DesignReport:
         The report's own choices (numerics, loss of the tolerance band, sweep grid).
     quick : bool
         Coarse numerics (a draft).
+    decision : Decision
+        What to build, from everything above (:func:`report_decision`); it heads the report.
     """
 
     models: tuple[str, ...]
@@ -168,6 +178,7 @@ class DesignReport:
     inputs: tuple[ModelEntry, ...]
     assumptions: tuple[Assumption, ...]
     quick: bool
+    decision: Decision
 
     @property
     def assumed_inputs(self) -> tuple[ModelEntry, ...]:
@@ -241,7 +252,68 @@ def design_report(
         models=models, pantograph=resolve_model_path(pantograph, "pantographs").stem, band=band,
         recommendation=recommendation, robust=robust, validity=validity, inputs=inputs,
         assumptions=_assumptions(band, numerics, within, sweep_note, quick), quick=quick,
+        decision=report_decision(recommendation, robust, validity, band),
     )
+
+
+def report_decision(recommendation: Recommendation, robust: RobustStudy, validity: ValidityRange,
+                    band: OperatingBand) -> Decision:
+    """The decision of a report (:mod:`presag_opt.design.decision`) from what the report computed.
+
+    Candidates: the Δe rule (the recommendation) and the quasi-static robust design (with its
+    tolerance interval). Their steady-arm uplift is the validity sweep's largest over its static
+    forces and the speeds up to the band's top, interpolated linearly between the sweep's pre-sags
+    (clamped at its ends); β* comes from the sweep. The highest static force that keeps the uplift
+    limit is the largest of the sweep's static forces at which some swept pre-sag keeps it.
+
+    Parameters
+    ----------
+    recommendation : Recommendation
+        The quasi-static recommendation.
+    robust : RobustStudy
+        The quasi-static robust design of the first model.
+    validity : ValidityRange
+        The validity study (dynamic sweep).
+    band : OperatingBand
+        Forces and speeds.
+    """
+    data = validity.dataset
+    limit = float(data.attrs["uplift_limit"])
+    l_ref = robust.reference_span
+    inside = data["speed"].values <= band.speed_high * (1 + 1e-9)
+    uplift = data["uplift_max"].values[:, inside, :]  # (presag, speed, static force)
+    per_presag_force = np.nanmax(uplift, axis=1) if uplift.size and np.isfinite(uplift).any() else None
+    presag_rel = data["presag"].values / l_ref
+
+    def swept_uplift(s_rel: float) -> float | None:
+        if per_presag_force is None:
+            return None
+        return float(np.interp(s_rel, presag_rel, np.nanmax(per_presag_force, axis=1)))
+
+    highest = None
+    if per_presag_force is not None:
+        keeps = np.nanmin(per_presag_force, axis=0) <= limit
+        forces = data["static_force"].values
+        highest = float(forces[keeps].max()) if keeps.any() else None
+    tol = robust.tolerance
+    dynamic = per_presag_force is not None
+    candidates = (
+        Candidate(method=DELTA_E_RULE, presag_rel=recommendation.presag_rel, uplift=swept_uplift(recommendation.presag_rel),
+                  uplift_dynamic=dynamic),
+        Candidate(method=QUASI_STATIC_ROBUST, presag_rel=robust.robust_parabola.presag_rel, tolerance=(tol.low, tol.high),
+                  uplift=swept_uplift(robust.robust_parabola.presag_rel), uplift_dynamic=dynamic),
+    )
+    result = validity.result
+    return decide(DecisionInputs(
+        candidates=candidates,
+        beta_max=recommendation.beta_max,
+        beta_limit=result.beta_limit,
+        beta_limit_uncertainty=result.beta_limit_uncertainty if result.beta_limit is not None else 0.0,
+        uplift_limit=limit,
+        highest_static_force=highest,
+        not_checked=("the dynamic robust design and its dynamic tolerance (presag robust --dynamic)",)
+        + (() if result.beta_limit is not None else (f"the validity limit: {validity.text()}",)),
+    ))
 
 
 def _reference_span(catenary) -> float:
