@@ -246,8 +246,8 @@ class LineDesign:
 
     @property
     def nominal_span_length(self) -> float:
-        """Mean span length of the line, the span the decision is quoted on. [m]"""
-        return float(np.mean([s.length for s in self.spans]))
+        """Mean span length of the line (to 0.1 m), the span the decision is quoted on. [m]"""
+        return round(float(np.mean([s.length for s in self.spans])), 1)
 
 
 def design_line(
