@@ -262,8 +262,9 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
 
     Candidates: the Δe rule (the recommendation) and the quasi-static robust design (with its
     tolerance interval). Their steady-arm uplift is the validity sweep's largest over its static
-    forces and the speeds up to the band's top, interpolated linearly between the sweep's pre-sags
-    (clamped at its ends); β* comes from the sweep. The highest static force that keeps the uplift
+    forces and the speeds up to the band's top, at the swept pre-sags next to the candidate's (the
+    larger of the two that bracket it: an uplift limit is checked on the safe side, not
+    interpolated); β* comes from the sweep. The highest static force that keeps the uplift
     limit is the largest of the sweep's static forces at which some swept pre-sag keeps it.
 
     Parameters
@@ -288,7 +289,14 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
     def swept_uplift(s_rel: float) -> float | None:
         if per_presag_force is None:
             return None
-        return float(np.interp(s_rel, presag_rel, np.nanmax(per_presag_force, axis=1)))
+        swept, values = presag_rel, np.nanmax(per_presag_force, axis=1)
+        same = np.isclose(swept, s_rel, rtol=1e-6, atol=0.0)
+        if same.any():
+            return float(values[same].max())
+        below, above = swept < s_rel, swept > s_rel
+        nearest = [np.flatnonzero(below)[np.argmax(swept[below])]] if below.any() else []
+        nearest += [np.flatnonzero(above)[np.argmin(swept[above])]] if above.any() else []
+        return float(values[nearest].max())
 
     highest = None
     if per_presag_force is not None:
