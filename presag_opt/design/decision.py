@@ -110,6 +110,12 @@ class DecisionInputs:
         Largest allowed steady-arm uplift. [m]
     highest_static_force : float or None
         Highest static force at which some S keeps the uplift limit over the band, if known. [N]
+    lowest_static_force_checked : float or None
+        Lowest static force the uplift was checked at, where ``highest_static_force`` is None because
+        none kept the limit. [N]
+    some_presag_keeps_uplift : bool or None
+        Whether some pre-sag checked dynamically (not only the candidates) keeps the uplift limit over
+        the whole band; None if unknown (then the candidates' uplifts decide).
     not_checked : tuple of str
         What was not computed (shown with the decision).
     """
@@ -121,6 +127,8 @@ class DecisionInputs:
     dynamic_tolerance: tuple[float, float] | None = None
     uplift_limit: float = STEADY_ARM_UPLIFT_LIMIT
     highest_static_force: float | None = None
+    lowest_static_force_checked: float | None = None
+    some_presag_keeps_uplift: bool | None = None
     not_checked: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
@@ -228,16 +236,21 @@ def decide(inputs: DecisionInputs) -> Decision:
 
     # 1. uplift compatibility: judged on dynamic uplifts where there are any, else on the static estimates
     known = [c for c in order if c.uplift is not None and c.uplift_dynamic] or [c for c in order if c.uplift is not None]
-    if known and all(c.uplift > limit for c in known):
-        best = min(known, key=lambda c: c.uplift)
+    all_over = bool(known) and all(c.uplift > limit for c in known)
+    if inputs.some_presag_keeps_uplift is False or (inputs.some_presag_keeps_uplift is None and all_over):
+        best = min(known, key=lambda c: c.uplift) if known else order[0]
         kind = "dynamic" if best.uplift_dynamic else "static estimate"
         force = inputs.highest_static_force
+        floor = inputs.lowest_static_force_checked
         tail = (f"; the highest static force at which one does is {force:.0f} N" if force is not None
+                else f"; not even at the lowest static force checked, {floor:.0f} N" if floor is not None
                 else "; the highest static force at which one does was not computed")
+        answers = (f" (the answers' uplift, {kind}: at least {best.uplift * 1e3:.1f} mm)" if best.uplift is not None
+                   else "")
         return result(best, "uplift-bound",
-                      f"the steady-arm uplift ({kind}) is at least {best.uplift * 1e3:.1f} mm for every answer, above "
-                      f"the limit {limit * 1e3:g} mm{tail}: the static force is set by uplift compatibility here, "
-                      "not by contact dynamics")
+                      f"no pre-sag checked keeps the steady-arm uplift within the limit {limit * 1e3:g} mm over the "
+                      f"band{answers}{tail}: the static force is set by uplift compatibility here, not by contact "
+                      "dynamics")
 
     # 2. validity of the quasi-static answers
     trusted = inputs.beta_max <= inputs.trusted_beta + 1e-12
@@ -264,7 +277,7 @@ def decide(inputs: DecisionInputs) -> Decision:
                           f"{beta_text}, so the quasi-static answers hold; {c.method}: {checked}"
                           + (f", {uplift}" if uplift else ""))
     # 4. the dynamic robust design
-    why = beta_text if not trusted else "; ".join(f"{m}: {', '.join(i)}" for m, i in problems.items() if i)
+    why = "; ".join(([] if trusted else [beta_text]) + [f"{m}: {', '.join(i)}" for m, i in problems.items() if i])
     if dynamic is not None and (dynamic.uplift is None or dynamic.uplift <= limit):
         return result(dynamic, "decided", f"{why}: the dynamic robust design decides")
     if dynamic is not None:

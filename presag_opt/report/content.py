@@ -265,7 +265,9 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
     forces and the speeds up to the band's top, at the swept pre-sags next to the candidate's (the
     larger of the two that bracket it: an uplift limit is checked on the safe side, not
     interpolated); β* comes from the sweep. The highest static force that keeps the uplift
-    limit is the largest of the sweep's static forces at which some swept pre-sag keeps it.
+    limit is the largest of the sweep's static forces up to which (from the lowest) some swept
+    pre-sag keeps it; None if not even the lowest does. Whether any swept pre-sag keeps the limit over
+    the whole band decides if the band is uplift-bound.
 
     Parameters
     ----------
@@ -298,11 +300,15 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
         nearest += [np.flatnonzero(above)[np.argmin(swept[above])]] if above.any() else []
         return float(values[nearest].max())
 
-    highest = None
+    highest, feasible = None, None
     if per_presag_force is not None:
-        keeps = np.nanmin(per_presag_force, axis=0) <= limit
+        # the band cut at each swept static force: is there a swept S whose uplift keeps the limit up to it?
         forces = data["static_force"].values
-        highest = float(forces[keeps].max()) if keeps.any() else None
+        order = np.argsort(forces)
+        up_to = np.fmax.accumulate(per_presag_force[:, order], axis=1)  # (presag, band top)
+        keeps = np.nanmin(up_to, axis=0) <= limit
+        highest = float(forces[order][keeps].max()) if keeps.any() else None
+        feasible = bool(keeps[-1])
     tol = robust.tolerance
     dynamic = per_presag_force is not None
     candidates = (
@@ -319,6 +325,8 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
         beta_limit_uncertainty=result.beta_limit_uncertainty if result.beta_limit is not None else 0.0,
         uplift_limit=limit,
         highest_static_force=highest,
+        lowest_static_force_checked=float(data["static_force"].values.min()),
+        some_presag_keeps_uplift=feasible,
         not_checked=("the dynamic robust design and its dynamic tolerance (presag robust --dynamic)",)
         + (() if result.beta_limit is not None else (f"the validity limit: {validity.text()}",)),
     ))

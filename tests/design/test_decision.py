@@ -68,6 +68,10 @@ def test_the_issue_report_case_is_uplift_bound_with_the_highest_static_force():
     assert d.status == "uplift-bound"
     assert d.headline(60.0).startswith("No pre-sag keeps the steady-arm uplift limit")
     assert "93.7 mm" in d.reason and "83.5 mm" in d.reason and "70 N" in d.reason
+    # ... unless a pre-sag outside the answers kept it in the sweep: then the dynamic design decides (not run)
+    d = decide(DecisionInputs(candidates=candidates, beta_max=0.41, highest_static_force=140.0,
+                              some_presag_keeps_uplift=True))
+    assert d.status == "provisional" and "uplift 93.7 mm over the limit 83.5 mm" in d.reason
 
 
 def test_static_uplift_bound_and_its_highest_static_force():
