@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 import time
 
-from presag_opt.cli.common import add_json_flag, model_help, output_folder, print_json, print_warnings, progress
+from presag_opt.cli.common import (
+    add_json_flag,
+    model_help,
+    output_folder,
+    print_json,
+    print_warnings,
+    progress,
+)
 from presag_opt.cli.presag import add_band_options, operating_band
 
 
@@ -64,7 +71,7 @@ def design_command(args: argparse.Namespace) -> int:
         design = design_line(survey, base, band, options, progress=report)
         check = None
         if args.dynamic_check:
-            from presag_opt.design.line_dynamic import dynamic_check
+            from presag_opt.report.line_dynamic import dynamic_check
 
             check = dynamic_check(design, progress=report)
             design = check.design

@@ -33,9 +33,17 @@ import numpy as np
 from presag_opt.design.band import OperatingBand, force_levels_for_band
 from presag_opt.design.decision import Decision
 from presag_opt.design.line_rules import RuleCheck, check_rules
-from presag_opt.design.recommendation import LayoutRecommendation, layout_recommendation, quick_decision
-from presag_opt.design.section import SectionElasticity, default_spans, section_elasticity
-from presag_opt.errors import ModelError
+from presag_opt.design.recommendation import (
+    LayoutRecommendation,
+    layout_recommendation,
+    quick_decision,
+)
+from presag_opt.design.section import (
+    SectionElasticity,
+    default_spans,
+    section_elasticity,
+)
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find
@@ -310,6 +318,16 @@ def design_line(
                       decision=decision, sections=tuple(built), notes=notes)
 
 
+def _named(job: Callable, *args):
+    """``job(*args)`` with the section's name in front of an error's message (the first argument is its catenary)."""
+    try:
+        return job(*args)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{args[0].layout.label}: {exc}", exc.stats) from exc
+    except ModelError as exc:
+        raise ModelError(f"{args[0].layout.label}: {exc}") from exc
+
+
 def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str,
                  progress: Callable[[str], None] | None) -> list:
     """Run ``job(*args)`` for every section, in forked processes where there are several."""
@@ -317,12 +335,12 @@ def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str
     if workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
         out = []
         for i, args in enumerate(arguments, start=1):
-            out.append(job(*args))
+            out.append(_named(job, *args))
             if progress:
                 progress(f"{stage}: section {i}/{len(arguments)} done")
         return out
     with worker_pool(workers, "fork") as pool:
-        futures = [pool.submit(job, *args) for args in arguments]
+        futures = [pool.submit(_named, job, *args) for args in arguments]
         for done, _ in enumerate(as_completed(futures), start=1):
             if progress:
                 progress(f"{stage}: sections done {done}/{len(arguments)}")

@@ -148,8 +148,16 @@ def line_page(design: LineDesign, dynamic_check: str | None = None) -> str:
     return "\n".join(parts)
 
 
-def _along_figure(design: LineDesign) -> str:
-    """e_mid, e_mast and the pre-sag against chainage, as an embedded PNG."""
+def plot_along_line(design: LineDesign, path: str | Path) -> Path:
+    """Save e_mid, e at the masts and Δe (top) and the pre-sag built (bottom) against chainage.
+
+    Parameters
+    ----------
+    design : LineDesign
+        The designed line.
+    path : str or Path
+        Output file; the suffix sets the format.
+    """
     from presag_opt.style import new_figure, save_figure
 
     spans = design.spans
@@ -166,9 +174,13 @@ def _along_figure(design: LineDesign) -> str:
     for sec in design.sections[1:]:
         for ax in (top, bottom):
             ax.axvline(sec.spans[0].chainage, color="0.5", lw=0.8, ls="--")
+    return save_figure(fig, path)
+
+
+def _along_figure(design: LineDesign) -> str:
+    """:func:`plot_along_line` as an embedded PNG."""
     with tempfile.TemporaryDirectory(prefix="presag-line-") as tmp:
-        path = Path(tmp) / "along.png"
-        save_figure(fig, path)
+        path = plot_along_line(design, Path(tmp) / "along.png")
         data = base64.b64encode(path.read_bytes()).decode("ascii")
     return (f"<figure id='fig-along'><img class='report-figure' src='data:image/png;base64,{data}' "
             "alt='elasticity and pre-sag along the chainage'><figcaption>Elasticity at the band-centre F_m and the "
