@@ -19,9 +19,9 @@ The procedure (:func:`decide`), in order:
    read, else the paper's onset of the weakening, β = 0.35 (its limit 0.4 with the σ/F_m minimum
    already weakening from 0.35).
 3. **Tolerance and uplift.** A trusted quasi-static answer is built if it lies inside the dynamic
-   tolerance interval (where one is known) and its uplift is within the limit (dynamic where known,
-   else the static estimate); the robust design is preferred to the Δe rule, since it is the one
-   that carries a tolerance interval of its own.
+   tolerance interval and its uplift is within the limit (dynamic where known, else the static
+   estimate); the robust design is preferred to the Δe rule, since it is the one that carries a
+   tolerance interval of its own. Without a dynamic tolerance interval the decision is provisional.
 4. **Otherwise the dynamic robust design**, if it was computed and keeps the uplift limit. If it was
    not computed (a fast command), the decision is *provisional*: the best quasi-static answer is
    shown with what was not checked and the command that checks it.
@@ -104,6 +104,9 @@ class DecisionInputs:
         Validity limit β* read from a study, None if none was read or it could not be read. [-]
     beta_limit_uncertainty : float
         Its uncertainty (half the β grid step). [-]
+    beta_limit_source : str
+        What ``beta_limit`` is, where it is not a β* read from a study (e.g. the lowest β of a study
+        whose grid shows the rule holding at none of its speeds); empty for a β*.
     dynamic_tolerance : tuple of float or None
         S_rel interval within the allowed loss of the dynamic optimum, if computed. [-]
     uplift_limit : float
@@ -124,6 +127,7 @@ class DecisionInputs:
     beta_max: float
     beta_limit: float | None = None
     beta_limit_uncertainty: float = 0.0
+    beta_limit_source: str = ""
     dynamic_tolerance: tuple[float, float] | None = None
     uplift_limit: float = STEADY_ARM_UPLIFT_LIMIT
     highest_static_force: float | None = None
@@ -254,9 +258,14 @@ def decide(inputs: DecisionInputs) -> Decision:
 
     # 2. validity of the quasi-static answers
     trusted = inputs.beta_max <= inputs.trusted_beta + 1e-12
-    source = (f"the validity study's β* = {inputs.beta_limit:.2f} ± {inputs.beta_limit_uncertainty:.2f}"
-              if inputs.beta_limit is not None else f"the paper's onset of the limit, β = {PAPER_WEAKENING_BETA:g}")
-    beta_text = f"the band's β_max = {inputs.beta_max:.2f} is {'at or below' if trusted else 'above'} {source}"
+    if inputs.beta_limit is None:
+        source = f"the paper's onset of the limit, β = {PAPER_WEAKENING_BETA:g}"
+    elif inputs.beta_limit_source:
+        source = inputs.beta_limit_source
+    else:
+        source = f"the validity study's β* = {inputs.beta_limit:.2f} ± {inputs.beta_limit_uncertainty:.2f}"
+    relation = "at or below" if trusted else "above" if inputs.beta_max > inputs.trusted_beta else "not below"
+    beta_text = f"the band's β_max = {inputs.beta_max:.2f} is {relation} {source}"
 
     # 3. a trusted quasi-static answer inside the dynamic tolerance and within the uplift limit
     problems = {}
@@ -273,7 +282,7 @@ def decide(inputs: DecisionInputs) -> Decision:
         if trusted and not issues:
             checked = "inside the dynamic tolerance" if tol is not None else "the dynamic tolerance was not computed"
             uplift = _uplift_text(c, limit).strip(", ")
-            return result(c, "decided" if tol is not None or c.uplift_dynamic else "provisional",
+            return result(c, "decided" if tol is not None else "provisional",
                           f"{beta_text}, so the quasi-static answers hold; {c.method}: {checked}"
                           + (f", {uplift}" if uplift else ""))
     # 4. the dynamic robust design

@@ -318,11 +318,23 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
                   uplift=swept_uplift(robust.robust_parabola.presag_rel), uplift_dynamic=dynamic),
     )
     result = validity.result
+    limit_beta, limit_source = result.beta_limit, ""
+    uncertainty = result.beta_limit_uncertainty if result.beta_limit is not None else 0.0
+    if limit_beta is None and result.per_beta:
+        held = [v for v in result.per_beta if v.holds]
+        if not held:  # the rule holds at none of the study's speeds: trusted nowhere at or above its lowest β
+            limit_beta = min(v.beta for v in result.per_beta)
+            limit_source = f"the lowest β of the validity sweep, {limit_beta:.2f}, at which the Δe rule already fails"
+            uncertainty = 1e-6  # trusted only below it
+        else:  # it holds at every speed of the grid: trusted up to its highest
+            limit_beta = max(v.beta for v in held)
+            limit_source = f"the highest β of the validity sweep, {limit_beta:.2f}, up to which the Δe rule holds"
     return decide(DecisionInputs(
         candidates=candidates,
         beta_max=recommendation.beta_max,
-        beta_limit=result.beta_limit,
-        beta_limit_uncertainty=result.beta_limit_uncertainty if result.beta_limit is not None else 0.0,
+        beta_limit=limit_beta,
+        beta_limit_source=limit_source,
+        beta_limit_uncertainty=uncertainty,
         uplift_limit=limit,
         highest_static_force=highest,
         lowest_static_force_checked=float(data["static_force"].values.min()),

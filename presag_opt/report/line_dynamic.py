@@ -83,6 +83,7 @@ def dynamic_check(design: LineDesign, pantograph: str = CHECK_PANTOGRAPH,
     uplift = max(r.uplift_max for r in check.runs)
     inputs = design.decision.inputs
     candidates = tuple(dataclasses.replace(c, uplift=uplift, uplift_dynamic=True) for c in inputs.candidates)
-    decision = decide(dataclasses.replace(inputs, candidates=candidates, not_checked=inputs.not_checked + (
+    kept = tuple(n for n in inputs.not_checked if "dynamic steady-arm uplift" not in n)
+    decision = decide(dataclasses.replace(inputs, candidates=candidates, not_checked=kept + (
         f"the dynamic uplift is that of section {worst.section} at the band's top speed only",)))
     return LineDynamicCheck(design=dataclasses.replace(design, decision=decision), section=worst.section, check=check)
