@@ -72,7 +72,8 @@ class LineOptions:
     geometry_tolerance : float
         Largest miss of a form-finding target accepted. The static model's default, 0.05 mm, is not
         reached on sections that change from straight track to a curve (the form-finding passes
-        stagnate at 0.1–0.2 mm there); 0.3 mm is a tenth of a dropper's installation tolerance. [m]
+        stagnate at 0.1–0.4 mm there, as notebook 05 finds on curves); 0.5 mm is a tenth of a dropper's
+        installation tolerance. [m]
     workers : int
         Processes for the sections. [-]
     """
@@ -80,7 +81,7 @@ class LineOptions:
     rule: str = "proportional"
     element_length: float = 0.5
     step: float = 1.0
-    geometry_tolerance: float = 3e-4
+    geometry_tolerance: float = 5e-4
     workers: int = 2
 
     def __post_init__(self) -> None:
