@@ -18,7 +18,8 @@ from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import form_find, newton_equilibrium
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
-from presag_opt.system.survey import Survey, survey_of_catenary
+from presag_opt.system.survey import Survey
+from presag_opt.system.survey_writing import survey_of_catenary
 
 # The case study's pin (tests/validation/test_headline.py, MIXED_RANGE) of the mixed section's S_rel range
 # over the band [‰]: Δe rule, 0.5 m elements, 0.5 m point spacing, all spans but the end spans; 1e-4 relative

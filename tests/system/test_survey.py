@@ -16,6 +16,8 @@ from presag_opt.system.survey import (
     load_survey,
     section_catenary,
     survey_from_rows,
+)
+from presag_opt.system.survey_writing import (
     survey_of_catenary,
     survey_table,
     write_survey_csv,
