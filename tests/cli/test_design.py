@@ -102,3 +102,18 @@ def test_bad_survey_values_end_with_one_line(tmp_path, row, expected):
     line = result.stderr.strip().splitlines()[-1]
     assert expected in line
     assert not (tmp_path / "out" / "droppers.csv").exists()  # nothing is computed from a table with an error
+
+
+def test_dynamic_check_simulates_the_worst_section_and_decides_again(tmp_path):
+    rows = [f"A{i + 1},{50 * i},{300 if i % 2 == 0 else -300},5.5,1.2,,pull-off,A" for i in range(7)]
+    result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out",
+                    "--dynamic-check", "--json", *FAST, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    decision = json.loads(result.stdout)["decision"]
+    chosen = decision["chosen"]
+    assert chosen["uplift_dynamic"] is True
+    # a dynamic uplift of a 9.8 kN section at 90 km/h and 140 N: tens of mm, within the 83.5 mm limit
+    assert 10.0 < chosen["uplift_mm"] < 83.5
+    assert not any("dynamic steady-arm uplift" in n for n in decision["not_checked"])
+    page = (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
+    assert "id='dynamic'" in page and "σ/F_m" in page
