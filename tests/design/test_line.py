@@ -116,3 +116,30 @@ def test_a_curved_section_gives_the_curved_track_study():
     inner = design.sections[0].spans[1:]
     kink = [base.contact_wire.tension * (a + b) / (2 * 300.0) for a, b in zip(spans[:-1], spans[1:])]
     assert np.mean([s.steady_arm_force for s in inner]) == pytest.approx(np.mean(kink), rel=0.10)
+
+
+def test_a_push_off_arm_softens_its_support_like_an_inverted_pendulum():
+    """One mast of a curve turned from pull-off to push-off: the arm's geometric stiffness across it, C·cos²θ/L,
+    changes sign, so the support stiffness 1/e_mast (a point spring added at the load's own degree of freedom
+    changes 1/e by its stiffness, Sherman–Morrison) falls by 2·C·cos²θ/L. 15 %: the arm is inclined, so its
+    stiffness across also couples the clamp's lateral freedom, which this one-spring estimate leaves out
+    (measured: 10 %)."""
+    from presag_opt.elasticity import linear_elasticity
+    from presag_opt.system.survey import SurveyMast, section_catenary
+
+    base = load_catenary("st_7.1_mixed")
+    settings = StaticSettings(element_length=0.5, geometry_tolerance=5e-4)
+    out = {}
+    for arm_type in ("pull-off", "push-off"):
+        masts = tuple(SurveyMast(mast=f"M{i}", chainage=40.0 * i, stagger=-0.2, contact_wire_height=5.5,
+                                 system_height=1.2, curve_radius=800.0, steady_arm=arm_type if i == 4 else "pull-off")
+                      for i in range(9))
+        state = form_find(section_catenary(base, Survey(masts=masts).sections()[0]), settings)
+        out[arm_type] = (linear_elasticity(state, span=4, step=0.5).elasticity[0], state.steady_arm_forces()[4],
+                         state.steady_arm_angles()[4])
+    (e_pull, c_pull, a_pull), (e_push, c_push, a_push) = out["pull-off"], out["push-off"]
+    assert c_pull > 0 > c_push and c_push == pytest.approx(-c_pull, rel=0.01)  # same lateral pull, opposite sign
+    length = base.contact_wire_support.length
+    expected = (c_push * np.cos(a_push) ** 2 - c_pull * np.cos(a_pull) ** 2) / length
+    assert 1 / e_push - 1 / e_pull == pytest.approx(expected, rel=0.15)
+    assert e_push > 1.3 * e_pull
