@@ -236,6 +236,8 @@ def print_recommendation(result: Recommendation, per_span: bool = False) -> None
     band = result.band
     low, high = result.mean_force_band
     method = "Δe = e_max − e_min" if result.method == "delta-e" else "e_mid − e_mast"
+    if result.decision is not None:
+        print("\n".join(result.decision.lines(result.nominal_span_length)) + "\n")
     print(f"Quasi-static pre-sag, S = F_m·({method})")
     print(
         f"Operating band: F_stat {band.static_force_low:g}–{band.static_force_high:g} N, "

@@ -58,12 +58,13 @@ def report_command(args: argparse.Namespace) -> int:
                                study=args.study, within=within, quick=args.quick, progress=report)
         path = write_report(result, folder)
     print_warnings([*(str(w.message) for w in caught), *result.validity.warnings])
-    rec, tol, validity = result.recommendation, result.robust.tolerance, result.validity
+    tol, validity, decision = result.robust.tolerance, result.validity, result.decision
     l_ref = result.robust.reference_span
     summary = {
         "index_html": str(path),
-        "presag_rel_permille": rec.presag_rel * 1e3,
-        "presag_mm": rec.presag_rel * l_ref * 1e3,
+        "decision": decision.to_dict(l_ref),
+        "presag_rel_permille": decision.chosen.presag_rel * 1e3,
+        "presag_mm": decision.chosen.presag_rel * l_ref * 1e3,
         "reference_span_m": l_ref,
         "tolerance_mm": [tol.low * l_ref * 1e3, tol.high * l_ref * 1e3],
         "beta_limit": validity.result.beta_limit,
@@ -75,8 +76,8 @@ def report_command(args: argparse.Namespace) -> int:
         print_json(summary)
         return 0
     low, high = summary["tolerance_mm"]
-    print(f"Recommended S_rel = {summary['presag_rel_permille']:.2f} ‰ = {summary['presag_mm']:.0f} mm on {l_ref:g} m, "
-          f"tolerance {low:.0f}–{high:.0f} mm")
+    print("\n".join(decision.lines(l_ref)))
+    print(f"Quasi-static tolerance {low:.0f}–{high:.0f} mm on {l_ref:g} m")
     print(f"Validity ({'stored study' if args.study else 'reduced sweep'}): {validity.text()}")
     print(f"Report written to {path}")
     return 0

@@ -32,6 +32,14 @@ from presag_opt.design.band import (
     force_levels_for_band,
     mean_force_grid,
 )
+from presag_opt.design.decision import (
+    DELTA_E_RULE,
+    Candidate,
+    Decision,
+    DecisionInputs,
+    decide,
+    highest_static_force_static,
+)
 from presag_opt.design.quasi_static import PRESAG_METHODS, check_method
 from presag_opt.design.section import (
     SectionElasticity,
@@ -216,6 +224,9 @@ class Recommendation:
         Validity and uplift warnings.
     recomputed : Recommendation or None
         The same study with the elasticity recomputed at the recommended pre-sag geometry.
+    decision : Decision or None
+        What to build (:mod:`presag_opt.design.decision`) from what this fast study checks: the Δe
+        rule, β against the paper's limit, the static uplift estimate; it lists what it did not check.
 
     References
     ----------
@@ -230,6 +241,7 @@ class Recommendation:
     nominal_span_length: float
     warnings: tuple[str, ...] = ()
     recomputed: Recommendation | None = None
+    decision: Decision | None = None
 
     @property
     def presag(self) -> float:
@@ -269,6 +281,8 @@ class Recommendation:
         }
         if self.recomputed is not None:
             out["recomputed_at_recommended_geometry"] = self.recomputed.to_dict()
+        if self.decision is not None:
+            out["decision"] = self.decision.to_dict(self.nominal_span_length)
         return out
 
 
@@ -395,5 +409,42 @@ def recommend(
         again = study([c.with_presag(presag_rel) for c in catenaries])
         recomputed = Recommendation(layouts=again, presag_rel=recommended_rel(again), **common)
     return Recommendation(
-        layouts=layouts, presag_rel=presag_rel, warnings=tuple(notes), recomputed=recomputed, **common
+        layouts=layouts, presag_rel=presag_rel, warnings=tuple(notes), recomputed=recomputed,
+        decision=quick_decision(layouts, presag_rel, band), **common
     )
+
+
+QUICK_NOT_CHECKED = (
+    "the quasi-static robust design and its tolerance (presag robust)",
+    "the validity limit read from a dynamic sweep, and the dynamic steady-arm uplift (presag report)",
+    "the dynamic robust design and its tolerance (presag robust --dynamic)",
+)
+"""What a recommendation alone does not check (its decision lists them)."""
+
+
+def quick_decision(layouts: Sequence[LayoutRecommendation], presag_rel: float, band: OperatingBand) -> Decision:
+    """The decision from what a recommendation computes in seconds.
+
+    The Δe rule's S_rel (mean of the layouts' range ends) with the largest static uplift estimate
+    F_m,max·e_mast of the layouts; β_max against the paper's limit (no validity study); the highest
+    static force whose static uplift estimate keeps the limit at the top speed.
+
+    Parameters
+    ----------
+    layouts : sequence of LayoutRecommendation
+        The layouts' quasi-static results.
+    presag_rel : float
+        The Δe rule's S_rel. [-]
+    band : OperatingBand
+        Forces and speeds.
+    """
+    uplift = max(layouts, key=lambda lay: lay.steady_arm_uplift.uplift).steady_arm_uplift
+    candidate = Candidate(method=DELTA_E_RULE, presag_rel=presag_rel, uplift=uplift.uplift)
+    return decide(DecisionInputs(
+        candidates=(candidate,),
+        beta_max=max(lay.speed.beta_max for lay in layouts),
+        uplift_limit=uplift.limit,
+        highest_static_force=highest_static_force_static(uplift.support_elasticity, uplift.limit,
+                                                         band.aero_coefficient, band.speed_high),
+        not_checked=QUICK_NOT_CHECKED,
+    ))

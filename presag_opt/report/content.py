@@ -17,6 +17,14 @@ import numpy as np
 import xarray as xr
 
 from presag_opt.design.band import CASE_STUDY_BAND, KMH, OperatingBand
+from presag_opt.design.decision import (
+    DELTA_E_RULE,
+    QUASI_STATIC_ROBUST,
+    Candidate,
+    Decision,
+    DecisionInputs,
+    decide,
+)
 from presag_opt.design.recommendation import CASE_STUDY_MODELS, CASE_STUDY_SPAN_LENGTH, Recommendation, recommend
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
 from presag_opt.dynamics.pantograph import load_pantograph
@@ -157,6 +165,8 @@ class DesignReport:
         The report's own choices (numerics, loss of the tolerance band, sweep grid).
     quick : bool
         Coarse numerics (a draft).
+    decision : Decision
+        What to build, from everything above (:func:`report_decision`); it heads the report.
     """
 
     models: tuple[str, ...]
@@ -168,6 +178,7 @@ class DesignReport:
     inputs: tuple[ModelEntry, ...]
     assumptions: tuple[Assumption, ...]
     quick: bool
+    decision: Decision
 
     @property
     def assumed_inputs(self) -> tuple[ModelEntry, ...]:
@@ -241,7 +252,96 @@ def design_report(
         models=models, pantograph=resolve_model_path(pantograph, "pantographs").stem, band=band,
         recommendation=recommendation, robust=robust, validity=validity, inputs=inputs,
         assumptions=_assumptions(band, numerics, within, sweep_note, quick), quick=quick,
+        decision=report_decision(recommendation, robust, validity, band),
     )
+
+
+def report_decision(recommendation: Recommendation, robust: RobustStudy, validity: ValidityRange,
+                    band: OperatingBand) -> Decision:
+    """The decision of a report (:mod:`presag_opt.design.decision`) from what the report computed.
+
+    Candidates: the Δe rule (the recommendation) and the quasi-static robust design (with its
+    tolerance interval). Their steady-arm uplift is the validity sweep's largest over its static
+    forces and the speeds up to the band's top, at the swept pre-sags next to the candidate's (the
+    larger of the two that bracket it: an uplift limit is checked on the safe side, not
+    interpolated); β* comes from the sweep. The highest static force that keeps the uplift
+    limit is the largest of the sweep's static forces up to which (from the lowest) some swept
+    pre-sag keeps it; None if not even the lowest does. Whether any swept pre-sag keeps the limit over
+    the whole band decides if the band is uplift-bound.
+
+    Parameters
+    ----------
+    recommendation : Recommendation
+        The quasi-static recommendation.
+    robust : RobustStudy
+        The quasi-static robust design of the first model.
+    validity : ValidityRange
+        The validity study (dynamic sweep).
+    band : OperatingBand
+        Forces and speeds.
+    """
+    data = validity.dataset
+    limit = float(data.attrs["uplift_limit"])
+    l_ref = robust.reference_span
+    inside = data["speed"].values <= band.speed_high * (1 + 1e-9)
+    uplift = data["uplift_max"].values[:, inside, :]  # (presag, speed, static force)
+    per_presag_force = np.nanmax(uplift, axis=1) if uplift.size and np.isfinite(uplift).any() else None
+    presag_rel = data["presag"].values / l_ref
+
+    def swept_uplift(s_rel: float) -> float | None:
+        if per_presag_force is None:
+            return None
+        swept, values = presag_rel, np.nanmax(per_presag_force, axis=1)
+        same = np.isclose(swept, s_rel, rtol=1e-6, atol=0.0)
+        if same.any():
+            return float(values[same].max())
+        below, above = swept < s_rel, swept > s_rel
+        nearest = [np.flatnonzero(below)[np.argmax(swept[below])]] if below.any() else []
+        nearest += [np.flatnonzero(above)[np.argmin(swept[above])]] if above.any() else []
+        return float(values[nearest].max())
+
+    highest, feasible = None, None
+    if per_presag_force is not None:
+        # the band cut at each swept static force: is there a swept S whose uplift keeps the limit up to it?
+        forces = data["static_force"].values
+        order = np.argsort(forces)
+        up_to = np.fmax.accumulate(per_presag_force[:, order], axis=1)  # (presag, band top)
+        keeps = np.nanmin(up_to, axis=0) <= limit
+        highest = float(forces[order][keeps].max()) if keeps.any() else None
+        feasible = bool(keeps[-1])
+    tol = robust.tolerance
+    dynamic = per_presag_force is not None
+    candidates = (
+        Candidate(method=DELTA_E_RULE, presag_rel=recommendation.presag_rel, uplift=swept_uplift(recommendation.presag_rel),
+                  uplift_dynamic=dynamic),
+        Candidate(method=QUASI_STATIC_ROBUST, presag_rel=robust.robust_parabola.presag_rel, tolerance=(tol.low, tol.high),
+                  uplift=swept_uplift(robust.robust_parabola.presag_rel), uplift_dynamic=dynamic),
+    )
+    result = validity.result
+    limit_beta, limit_source = result.beta_limit, ""
+    uncertainty = result.beta_limit_uncertainty if result.beta_limit is not None else 0.0
+    if limit_beta is None and result.per_beta:
+        held = [v for v in result.per_beta if v.holds]
+        if not held:  # the rule holds at none of the study's speeds: trusted nowhere at or above its lowest β
+            limit_beta = min(v.beta for v in result.per_beta)
+            limit_source = f"the lowest β of the validity sweep, {limit_beta:.2f}, at which the Δe rule already fails"
+            uncertainty = 1e-6  # trusted only below it
+        else:  # it holds at every speed of the grid: trusted up to its highest
+            limit_beta = max(v.beta for v in held)
+            limit_source = f"the highest β of the validity sweep, {limit_beta:.2f}, up to which the Δe rule holds"
+    return decide(DecisionInputs(
+        candidates=candidates,
+        beta_max=recommendation.beta_max,
+        beta_limit=limit_beta,
+        beta_limit_source=limit_source,
+        beta_limit_uncertainty=uncertainty,
+        uplift_limit=limit,
+        highest_static_force=highest,
+        lowest_static_force_checked=float(data["static_force"].values.min()),
+        some_presag_keeps_uplift=feasible,
+        not_checked=("the dynamic robust design and its dynamic tolerance (presag robust --dynamic)",)
+        + (() if result.beta_limit is not None else (f"the validity limit: {validity.text()}",)),
+    ))
 
 
 def _reference_span(catenary) -> float:

@@ -35,12 +35,28 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import GRAVITY, Catenary, Damping, SpringSupport, SteadyArm, Wire
+from presag_opt.static.section_elements import (  # the element groups and types are re-exported here
+    CONTACT_WIRE,
+    DROPPER,
+    GROUP_NAMES,
+    MESSENGER_WIRE,
+    STEADY_ARM,
+    AxialElements,
+    BendingTriples,
+    SectionElements,
+)
+from presag_opt.static.section_geometry import (
+    design_wire_positions,
+    mast_normals,
+    section_stations,
+    steady_arm_pivots,
+    track_plan,
+)
+from presag_opt.system.catenary import GRAVITY, Catenary, Damping, Wire
 from presag_opt.system.quantity import quantity, validate_fields
 
-# Axial element groups.
-CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM = 0, 1, 2, 3
-GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm")
+__all__ = ["CONTACT_WIRE", "DROPPER", "GROUP_NAMES", "MESSENGER_WIRE", "PIN_STIFFNESS", "STEADY_ARM", "AxialElements",
+           "BendingTriples", "Discretisation", "StaticSettings", "discretise", "discretise_lone_wire"]
 
 PIN_STIFFNESS = 1e9
 """Across-track stiffness of a messenger-wire pin on a curve: a kink force of ~1 kN moves it 1 μm. [N/m]"""
@@ -76,39 +92,6 @@ class StaticSettings:
             raise ModelError(
                 f"settings.max_newton_iterations = {self.max_newton_iterations} is outside the valid range [1, 1000]"
             )
-
-
-@dataclass(frozen=True, kw_only=True)
-class AxialElements:
-    """Two-node spring elements (arrays of equal length)."""
-
-    node_a: np.ndarray
-    node_b: np.ndarray
-    stiffness: np.ndarray  # [N/m]
-    design_length: np.ndarray  # [m] length in the design (target) state
-    group: np.ndarray  # CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM
-
-    def __len__(self) -> int:
-        return len(self.node_a)
-
-
-@dataclass(frozen=True, kw_only=True)
-class BendingTriples:
-    """Three consecutive wire nodes a-b-c with the reference spacings and EI."""
-
-    node_a: np.ndarray
-    node_b: np.ndarray
-    node_c: np.ndarray
-    spacing_ab: np.ndarray  # [m]
-    spacing_bc: np.ndarray  # [m]
-    bending_stiffness: np.ndarray  # [N m^2]
-
-    @classmethod
-    def empty(cls) -> "BendingTriples":
-        """No bending (pure cables)."""
-        none_i, none_f = np.zeros(0, dtype=int), np.zeros(0)
-        return cls(node_a=none_i, node_b=none_i, node_c=none_i, spacing_ab=none_f, spacing_bc=none_f,
-                   bending_stiffness=none_f)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -265,9 +248,11 @@ class Discretisation:
 def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Discretisation:
     """Build the finite-element discretisation of a catenary section in its design state.
 
-    The design state has the contact wire on the pre-sag parabola (zero at the masts, designed
-    height there) and a first guess of the messenger wire; form-finding then finds the dropper
-    lengths and steady-arm settings that make it an equilibrium.
+    The design state has the contact wire on the pre-sag profile below the straight line between
+    its supports (their designed heights at the masts) and a first guess of the messenger wire;
+    form-finding then finds the dropper lengths and steady-arm settings that make it an equilibrium.
+    Per-mast stagger, heights and steady-arm types come from the catenary's
+    :class:`~presag_opt.system.masts.MastGeometry` where it has one.
 
     Parameters
     ----------
@@ -284,213 +269,78 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     cat = catenary
     spans = np.asarray(cat.layout.span_lengths)
     n_spans = len(spans)
-    mast_station = np.concatenate([[0.0], np.cumsum(spans)])
-    track_xy, heading = _track_plan(spans, np.asarray(cat.layout.radii))
-    normal = np.column_stack([-np.sin(heading), np.cos(heading), np.zeros_like(heading)])
-    stagger = cat.stagger * np.where(np.arange(n_spans + 1) % 2 == 0, 1.0, -1.0)
-    reg_xy = track_xy + stagger[:, None] * normal[:, :2]
-
-    # Stations of one span: masts, droppers, and equal subdivisions no longer than element_length.
-    stations, span_of, is_dropper, local = [], [], [], []
-    for i, length in enumerate(spans):
-        drop = cat.droppers.positions_in_span(length)
-        breaks = np.concatenate([[0.0], drop, [length]])
-        pts = [0.0]
-        for a, b in zip(breaks[:-1], breaks[1:]):
-            n = max(1, math.ceil((b - a) / settings.element_length - 1e-9))
-            pts.extend(a + (b - a) * np.arange(1, n + 1) / n)
-        pts = np.asarray(pts)
-        if i < n_spans - 1:
-            pts = pts[:-1]  # the next span starts at this mast
-        stations.append(mast_station[i] + pts)
-        local.append(pts)
-        span_of.append(np.full(len(pts), i))
-        is_dropper.append(np.isin(np.round(pts, 9), np.round(drop, 9)))
-    cw_station = np.concatenate(stations)
-    local_s = np.concatenate(local)
-    span_idx = np.concatenate(span_of)
-    dropper_mask = np.concatenate(is_dropper)
-    n_st = len(cw_station)
-
-    # Plan position: along the chord between the registrations of the span.
-    lengths = spans[span_idx]
-    t = local_s / lengths
-    start = reg_xy[span_idx]
-    end = reg_xy[np.minimum(span_idx + 1, n_spans)]
-    xy = start + t[:, None] * (end - start)
-
-    z_cw = cat.contact_wire_height - np.concatenate([cat.presag_depth(i, pts) for i, pts in enumerate(local)])
-    z_mw = cat.contact_wire_height + cat.system_height - 4.0 * _messenger_sag_guess(cat, lengths) * t * (1.0 - t)
-
+    stations = section_stations(cat, settings.element_length)
+    track_xy, heading = track_plan(spans, np.asarray(cat.layout.radii))
+    normal = mast_normals(heading)
+    cw_pos, mw_pos = design_wire_positions(cat, stations, track_xy, normal)
+    n_st = len(stations.station)
     cw_nodes = np.arange(n_st)
     mw_nodes = n_st + np.arange(n_st)
-    positions = [np.column_stack([xy, z_cw]), np.column_stack([xy, z_mw])]
-    node_mass = np.zeros(2 * n_st)
-
-    mast_cw = np.searchsorted(cw_station, mast_station - 1e-9)
+    mast_cw = stations.mast_nodes
     mast_mw = mw_nodes[mast_cw]
 
-    # Wires.
-    ax_a, ax_b, ax_k, ax_len, ax_grp = [], [], [], [], []
-    bend = {"a": [], "b": [], "c": [], "h1": [], "h2": [], "ei": []}
-    for nodes, wire, grp, pos in (
-        (cw_nodes, cat.contact_wire, CONTACT_WIRE, positions[0]),
-        (mw_nodes, cat.messenger_wire, MESSENGER_WIRE, positions[1]),
-    ):
-        seg = np.linalg.norm(np.diff(pos, axis=0), axis=1)
-        ax_a.append(nodes[:-1])
-        ax_b.append(nodes[1:])
-        unstretched = seg / (1.0 + wire.tension / wire.axial_stiffness)
-        ax_k.append(wire.axial_stiffness / unstretched)
-        ax_len.append(seg)
-        ax_grp.append(np.full(len(seg), grp))
-        np.add.at(node_mass, nodes[:-1], 0.5 * wire.mass_per_length * seg)
-        np.add.at(node_mass, nodes[1:], 0.5 * wire.mass_per_length * seg)
-        if wire.bending_stiffness > 0.0:
-            bend["a"].append(nodes[:-2])
-            bend["b"].append(nodes[1:-1])
-            bend["c"].append(nodes[2:])
-            bend["h1"].append(seg[:-1])
-            bend["h2"].append(seg[1:])
-            bend["ei"].append(np.full(len(seg) - 1, wire.bending_stiffness))
-
-    # Droppers.
-    d_cw = cw_nodes[dropper_mask]
-    d_mw = mw_nodes[dropper_mask]
-    d_len = positions[1][dropper_mask, 2] - positions[0][dropper_mask, 2]
-    if np.any(d_len <= 0.0):
-        raise ModelError("the messenger-wire first guess lies below the contact wire; check system_height")
-    drop_spec = cat.droppers
-    if drop_spec.stiffness is not None:
-        d_k = np.full(len(d_len), drop_spec.stiffness)
-    else:
-        d_k = drop_spec.axial_stiffness / d_len
-    d_mass = drop_spec.mass_per_length * d_len
-    np.add.at(node_mass, d_cw, 0.5 * d_mass + drop_spec.clamp_mass)
-    np.add.at(node_mass, d_mw, 0.5 * d_mass + drop_spec.clamp_mass)
-    first_dropper = sum(len(a) for a in ax_a)
-    ax_a.append(d_cw)
-    ax_b.append(d_mw)
-    ax_k.append(d_k)
-    ax_len.append(d_len)
-    ax_grp.append(np.full(len(d_len), DROPPER))
-
-    n_nodes = 2 * n_st
-    fixed = np.zeros((n_nodes, 3), dtype=bool)
-    springs_dof, springs_k, springs_mast = [], [], []
-    arm_a, arm_b, arm_k, arm_len, arm_masts = [], [], [], [], []
-
-    support = cat.contact_wire_support
-    for m, node in enumerate(mast_cw):
-        if isinstance(support, SteadyArm):
-            arm_a.append(node)
-            arm_b.append(n_nodes + len(arm_a) - 1)
-            arm_k.append(support.axial_stiffness / support.length)
-            arm_len.append(support.length)
-            arm_masts.append(m)
-            node_mass[node] += 0.5 * support.mass
-        else:
-            springs_dof.append(3 * node + 2)
-            springs_k.append(support.stiffness)
-            springs_mast.append(m)
-            node_mass[node] += support.mass
-            fixed[node, 1] = True  # a spring support has no lateral freedom of its own
-    mw_support = cat.messenger_wire_support
-    pin_nodes, pin_normals = [], []
-    for m, node in enumerate(mast_mw):
-        if isinstance(mw_support, SpringSupport):
-            fixed[node, 1] = True
-            springs_dof.append(3 * node + 2)
-            springs_k.append(mw_support.stiffness)
-            springs_mast.append(m)
-            node_mass[node] += mw_support.mass
-        elif abs(normal[m, 0]) < 1e-12:
-            fixed[node, 1:] = True
-        else:
-            # On a curve the pin holds the wire across the track (along the mast normal), not along y.
-            fixed[node, 2] = True
-            pin_nodes.append(node)
-            pin_normals.append(normal[m])
-
-    if arm_a:
-        fixed = np.vstack([fixed, np.ones((len(arm_a), 3), dtype=bool)])
-        node_mass = np.concatenate([node_mass, np.zeros(len(arm_a))])
-        first_arm = sum(len(a) for a in ax_a)
-        ax_a.append(np.asarray(arm_a))
-        ax_b.append(np.asarray(arm_b))
-        ax_k.append(np.asarray(arm_k))
-        ax_len.append(np.asarray(arm_len))
-        ax_grp.append(np.full(len(arm_a), STEADY_ARM))
-        arm_elements = first_arm + np.arange(len(arm_a))
-        arm_pivots = np.asarray(arm_b)
-    else:
-        arm_elements = np.zeros(0, dtype=int)
-        arm_pivots = np.zeros(0, dtype=int)
+    parts = SectionElements(node_mass=np.zeros(2 * n_st), fixed=np.zeros((2 * n_st, 3), dtype=bool))
+    for nodes, wire, grp, pos in ((cw_nodes, cat.contact_wire, CONTACT_WIRE, cw_pos),
+                                  (mw_nodes, cat.messenger_wire, MESSENGER_WIRE, mw_pos)):
+        parts.add_wire(nodes, wire, grp, pos)
+    first_dropper = parts.n_axial
+    n_droppers = parts.add_droppers(cat, cw_nodes[stations.is_dropper], mw_nodes[stations.is_dropper],
+                                    mw_pos[stations.is_dropper, 2] - cw_pos[stations.is_dropper, 2])
+    parts.add_contact_wire_supports(cat.contact_wire_support, mast_cw)
+    parts.add_messenger_wire_supports(cat.messenger_wire_support, mast_mw, normal)
 
     # Mid-point anchor: both wires fixed along the track at the central mast.
     anchor = n_spans // 2
-    fixed[mast_cw[anchor], 0] = True
-    fixed[mast_mw[anchor], 0] = True
+    parts.fixed[mast_cw[anchor], 0] = True
+    parts.fixed[mast_mw[anchor], 0] = True
 
-    wire_pos = np.vstack(positions)
-    # Balance weights pull each wire end outwards along the track.
-    termination = np.zeros(3 * (n_nodes + len(arm_a)))
-    for nodes, wire in ((cw_nodes, cat.contact_wire), (mw_nodes, cat.messenger_wire)):
-        for end, mast, sign in ((nodes[0], 0, -1.0), (nodes[-1], n_spans, 1.0)):
-            tangent = np.array([math.cos(heading[mast]), math.sin(heading[mast]), 0.0])
-            termination[3 * end : 3 * end + 3] += sign * wire.tension * tangent
-    pivots = _steady_arm_pivots(cat, wire_pos, cw_nodes, mast_cw, termination, arm_masts)
-    all_pos = np.vstack([wire_pos, pivots]) if len(pivots) else wire_pos
-
-    axial = AxialElements(
-        node_a=np.concatenate(ax_a).astype(int),
-        node_b=np.concatenate(ax_b).astype(int),
-        stiffness=np.concatenate(ax_k).astype(float),
-        design_length=np.concatenate(ax_len).astype(float),
-        group=np.concatenate(ax_grp).astype(int),
-    )
-    if bend["a"]:
-        bending = BendingTriples(
-            node_a=np.concatenate(bend["a"]),
-            node_b=np.concatenate(bend["b"]),
-            node_c=np.concatenate(bend["c"]),
-            spacing_ab=np.concatenate(bend["h1"]),
-            spacing_bc=np.concatenate(bend["h2"]),
-            bending_stiffness=np.concatenate(bend["ei"]),
-        )
-    else:
-        bending = BendingTriples.empty()
+    wire_pos = np.vstack([cw_pos, mw_pos])
+    termination = _balance_weights(cat, cw_nodes, mw_nodes, heading, 3 * (2 * n_st + len(parts.arm_masts)))
+    pivots = steady_arm_pivots(cat, wire_pos, cw_nodes, mast_cw, termination, parts.arm_masts)
+    first_arm = parts.add_steady_arms()
     return Discretisation(
         catenary=cat,
         contact_wire=cat.contact_wire,
         damping=cat.damping,
         cw_tension=cat.contact_wire.tension,
         settings=settings,
-        design_positions=all_pos,
-        node_mass=node_mass,
+        design_positions=np.vstack([wire_pos, pivots]) if len(pivots) else wire_pos,
+        node_mass=parts.node_mass,
         cw_nodes=cw_nodes,
         mw_nodes=mw_nodes,
-        cw_station=cw_station,
-        mast_station=mast_station,
+        cw_station=stations.station,
+        mast_station=stations.mast_station,
         mast_cw_node=mast_cw,
         mast_mw_node=mast_mw,
         mast_normal=normal,
-        axial=axial,
-        bending=bending,
-        dropper_elements=first_dropper + np.arange(len(d_len)),
-        dropper_span=span_idx[dropper_mask],
-        dropper_position=local_s[dropper_mask],
-        arm_elements=arm_elements,
-        arm_pivot_nodes=arm_pivots,
-        arm_masts=np.asarray(arm_masts, dtype=int),
-        spring_dofs=np.asarray(springs_dof, dtype=int),
-        spring_stiffness=np.asarray(springs_k, dtype=float),
-        spring_masts=np.asarray(springs_mast, dtype=int),
-        pin_nodes=np.asarray(pin_nodes, dtype=int),
-        pin_normals=np.asarray(pin_normals, dtype=float).reshape(-1, 3),
-        fixed_dofs=fixed.ravel(),
+        axial=parts.axial(),
+        bending=parts.bending(),
+        dropper_elements=first_dropper + np.arange(n_droppers),
+        dropper_span=stations.span[stations.is_dropper],
+        dropper_position=stations.local[stations.is_dropper],
+        arm_elements=first_arm + np.arange(len(parts.arm_masts)),
+        arm_pivot_nodes=np.asarray(parts.arm_b, dtype=int),
+        arm_masts=np.asarray(parts.arm_masts, dtype=int),
+        spring_dofs=np.asarray(parts.springs_dof, dtype=int),
+        spring_stiffness=np.asarray(parts.springs_k, dtype=float),
+        spring_masts=np.asarray(parts.springs_mast, dtype=int),
+        pin_nodes=np.asarray(parts.pin_nodes, dtype=int),
+        pin_normals=np.asarray(parts.pin_normals, dtype=float).reshape(-1, 3),
+        fixed_dofs=parts.fixed.ravel(),
         termination_force=termination,
     )
+
+
+def _balance_weights(cat: Catenary, cw_nodes: np.ndarray, mw_nodes: np.ndarray, heading: np.ndarray,
+                     n_dofs: int) -> np.ndarray:
+    """Balance-weight pulls: each wire end pulled outwards along the track by its tension. [N]"""
+    n_spans = len(heading) - 1
+    termination = np.zeros(n_dofs)
+    for nodes, wire in ((cw_nodes, cat.contact_wire), (mw_nodes, cat.messenger_wire)):
+        for end, mast, sign in ((nodes[0], 0, -1.0), (nodes[-1], n_spans, 1.0)):
+            tangent = np.array([math.cos(heading[mast]), math.sin(heading[mast]), 0.0])
+            termination[3 * end : 3 * end + 3] += sign * wire.tension * tangent
+    return termination
 
 
 def discretise_lone_wire(
@@ -590,76 +440,3 @@ def discretise_lone_wire(
         fixed_dofs=fixed.ravel(),
         termination_force=termination,
     )
-
-
-def _steady_arm_pivots(
-    cat: Catenary,
-    wire_pos: np.ndarray,
-    cw_nodes: np.ndarray,
-    mast_cw: np.ndarray,
-    termination: np.ndarray,
-    arm_masts: list[int],
-) -> np.ndarray:
-    """First-guess pivot of each steady arm, from an estimate of the force the arm carries.
-
-    Sideways: the resultant of the contact-wire tension at the clamp (stagger and curve kinks).
-    Vertically: the contact-wire weight out to the first droppers plus the pull of the pre-sagged
-    wire. The arm is stretched by its estimated tension so that Newton's method starts with an arm
-    that has geometric stiffness.
-
-    Raises
-    ------
-    ModelError
-        If the contact wire exerts (almost) no lateral pull at a mast: the arm would have no
-        tension and so no vertical stiffness.
-    """
-    if not arm_masts:
-        return np.zeros((0, 3))
-    arm = cat.contact_wire_support
-    tension = cat.contact_wire.tension
-    spans = cat.layout.span_lengths
-    pivots = []
-    for m in arm_masts:
-        node = mast_cw[m]
-        pull = termination[3 * node : 3 * node + 3].copy()
-        k = int(np.searchsorted(cw_nodes, node))
-        for nb in (k - 1, k + 1):
-            if 0 <= nb < len(cw_nodes):
-                d = wire_pos[cw_nodes[nb]] - wire_pos[node]
-                pull += tension * d / np.linalg.norm(d)
-        pull[2] = 0.0
-        size = np.linalg.norm(pull)
-        if size < 1e-3 * tension:
-            raise ModelError(
-                f"steady arm at mast {m}: the contact wire pulls only {size:.3g} N sideways there, so the arm "
-                "would have no vertical stiffness; give a stagger or a curve, or use a spring support"
-            )
-        adjacent = [spans[i] for i in (m - 1, m) if 0 <= i < len(spans)]
-        first_drop = [cat.droppers.positions_in_span(length)[0] for length in adjacent]
-        vertical = GRAVITY * (cat.contact_wire.mass_per_length * sum(first_drop) / 2.0 + arm.mass / 2.0)
-        # the pull of the parabola of presag_rel (for a profile: of its label, as good as a first guess needs)
-        vertical += sum(4.0 * tension * cat.presag_rel * (1.0 - 2.0 * d / length) for d, length in zip(first_drop, adjacent))
-        direction = np.append(-pull[:2] / size * size, vertical)
-        force = np.linalg.norm(direction)
-        stretched = arm.length * (1.0 + force / arm.axial_stiffness)
-        pivots.append(wire_pos[node] + stretched * direction / force)
-    return np.asarray(pivots)
-
-
-def _track_plan(spans: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Mast positions in plan and track heading at each mast for straight or circular spans."""
-    xy = np.zeros((len(spans) + 1, 2))
-    heading = np.zeros(len(spans) + 1)
-    for i, (length, radius) in enumerate(zip(spans, radii)):
-        turn = 0.0 if radius == 0.0 else length / radius
-        chord = length if radius == 0.0 else 2.0 * radius * math.sin(turn / 2.0)
-        direction = heading[i] + turn / 2.0
-        xy[i + 1] = xy[i] + abs(chord) * np.array([math.cos(direction), math.sin(direction)])
-        heading[i + 1] = heading[i] + turn
-    return xy, heading
-
-
-def _messenger_sag_guess(cat: Catenary, span_lengths: np.ndarray) -> np.ndarray:
-    """Parabolic mid-span sag of the messenger wire carrying both wires' weight (first guess). [m]"""
-    weight = GRAVITY * (cat.contact_wire.mass_per_length + cat.messenger_wire.mass_per_length)
-    return weight * span_lengths**2 / (8.0 * cat.messenger_wire.tension)

@@ -17,6 +17,7 @@ from typing import Literal
 import numpy as np
 
 from presag_opt.errors import ModelError
+from presag_opt.system.masts import MastGeometry
 from presag_opt.system.quantity import quantity, validate_fields
 
 GRAVITY = 9.81
@@ -306,6 +307,10 @@ class Catenary:
         None (the default): the parabola of ``presag_rel``. [m]
     damping : Damping or None
         Structural damping for dynamic analysis.
+    masts : MastGeometry or None
+        Per-mast signed stagger, heights and steady-arm type (a surveyed section); None: the scalar
+        ``stagger`` (alternating), ``contact_wire_height`` and ``system_height`` at every mast, and
+        pull-off arms.
     provenance : dict
         Dotted model-file key -> :class:`Provenance`.
     """
@@ -323,6 +328,7 @@ class Catenary:
     presag_rel: float = quantity("ratio", 0.0, 5.0, display="‰", default=0.0)
     presag_profile: tuple[tuple[float, ...], ...] | None = None
     damping: Damping | None = None
+    masts: MastGeometry | None = None
     provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -339,7 +345,12 @@ class Catenary:
                 "layout.curve_radii: spring supports model straight track only; use a steady_arm contact-wire "
                 "support and a pin messenger-wire support on curves"
             )
-        if isinstance(self.contact_wire_support, SteadyArm) and self.stagger == 0.0 and not any(self.layout.radii):
+        if self.masts is not None and self.masts.n_masts != self.layout.n_spans + 1:
+            raise ModelError(
+                f"masts: {self.masts.n_masts} masts given for {self.layout.n_spans} spans (needs {self.layout.n_spans + 1})"
+            )
+        if (isinstance(self.contact_wire_support, SteadyArm) and self.masts is None and self.stagger == 0.0
+                and not any(self.layout.radii)):
             raise ModelError(
                 "stagger = 0 m on straight track leaves a steady arm without lateral pull (it would have no "
                 "vertical stiffness); give a stagger in (0, 0.5] m or use a spring support"
@@ -366,6 +377,46 @@ class Catenary:
                         f"presag_profile[{s}][{i}] = {depth * 1e3:g} mm is outside the valid range "
                         f"[0, {high * length * 1e3:g}] mm (0–{high * 1e3:g} ‰ of the {length:g} m span)"
                     )
+
+    def mast_stagger(self) -> np.ndarray:
+        """Signed stagger at every mast, + to the left (alternating ``±stagger`` without ``masts``). [m]"""
+        if self.masts is not None:
+            return np.asarray(self.masts.stagger)
+        return self.stagger * np.where(np.arange(self.layout.n_spans + 1) % 2 == 0, 1.0, -1.0)
+
+    def mast_contact_wire_height(self) -> np.ndarray:
+        """Contact-wire height above the rail at every mast. [m]"""
+        if self.masts is not None:
+            return np.asarray(self.masts.contact_wire_height)
+        return np.full(self.layout.n_spans + 1, self.contact_wire_height)
+
+    def mast_system_height(self) -> np.ndarray:
+        """System height (messenger above contact wire) at every mast. [m]"""
+        if self.masts is not None:
+            return np.asarray(self.masts.system_height)
+        return np.full(self.layout.n_spans + 1, self.system_height)
+
+    def mast_push_off(self) -> np.ndarray:
+        """True at every mast whose steady arm is a push-off arm (in compression)."""
+        if self.masts is not None:
+            return np.asarray(self.masts.push_off, dtype=bool)
+        return np.zeros(self.layout.n_spans + 1, dtype=bool)
+
+    def support_line(self, span: int, positions: np.ndarray) -> np.ndarray:
+        """Height of the straight line between the contact-wire supports of a span. [m]
+
+        The pre-sag (:meth:`presag_depth`) is measured below this line.
+
+        Parameters
+        ----------
+        span : int
+            Span, from 0.
+        positions : ndarray
+            Distances from the span's first mast, within [0, l]. [m]
+        """
+        heights = self.mast_contact_wire_height()
+        t = np.asarray(positions, dtype=float) / self.layout.span_lengths[span]
+        return heights[span] + (heights[span + 1] - heights[span]) * t
 
     def presag_of_span(self, span: int) -> float:
         """Mid-span pre-sag of span ``span`` (from 0). [m]"""

@@ -1,4 +1,4 @@
-"""The studies in notebooks/: all five there, committed without outputs, each documenting its modes and
+"""The studies in notebooks/: all six there, committed without outputs, each documenting its modes and
 ending with a cell that asserts its headline (each is run in fast mode by its own test file here; the
 README's test command runs them, as CI does)."""
 
@@ -12,7 +12,7 @@ import pytest
 NOTEBOOKS = sorted((Path(__file__).resolve().parents[2] / "notebooks").glob("*.ipynb"))
 
 
-def test_the_five_studies_are_there(studies):
+def test_the_six_studies_are_there(studies):
     assert [p.stem for p in NOTEBOOKS] == studies
 
 

@@ -1,0 +1,419 @@
+"""Design a surveyed line: per-span pre-sag, a dropper schedule, the design-rule checks, one decision.
+
+:func:`design_line` takes a :class:`~presag_opt.system.survey.Survey` and a base catenary (wires,
+tensions, droppers, supports) and designs every tension section on its own (balance weights at both
+ends, a mid-point anchor; overlap spans between sections are not modelled). Two passes, each with
+the sections in parallel (:func:`presag_opt.processes.worker_pool`):
+
+1. **Sizing.** Form-find each section at the base model's pre-sag, compute the elasticity of every
+   span at force levels bracketing the band's F_m, and the quasi-static Δe rule over the band
+   (:func:`~presag_opt.design.recommendation.layout_recommendation`; the end spans, whose outer
+   support is a termination, are left out of the sizing). The line's S_rel is the mean of the
+   sections' range ends (the rule of :func:`~presag_opt.design.recommendation.recommend`), and the
+   decision (:mod:`presag_opt.design.decision`) is made from it.
+2. **Building.** Form-find each section at the pre-sag to build: S = S_rel·l in every span (Swedish
+   practice, rule ``proportional``), or each span's own quasi-static S_rel (rule ``per-span``, the
+   mean of its values at the band ends); read the dropper schedule, the steady-arm forces and the
+   contact-wire heights off the equilibrium, and check the design rules
+   (:mod:`presag_opt.design.line_rules`).
+
+Elasticity values reported per span are those of pass 1 at the band-centre F_m.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from collections.abc import Callable
+from concurrent.futures import as_completed
+from dataclasses import dataclass
+
+import numpy as np
+
+from presag_opt.design.band import OperatingBand, force_levels_for_band
+from presag_opt.design.decision import Decision
+from presag_opt.design.line_rules import RuleCheck, check_rules
+from presag_opt.design.recommendation import (
+    LayoutRecommendation,
+    layout_recommendation,
+    quick_decision,
+)
+from presag_opt.design.section import (
+    SectionElasticity,
+    default_spans,
+    section_elasticity,
+)
+from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.processes import worker_pool
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import form_find
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.survey import Survey, SurveySection, section_catenary
+
+PRESAG_RULES = ("proportional", "per-span")
+"""Pre-sag rules of a line: S = S_rel·l with the line's S_rel, or each span's own quasi-static S_rel."""
+
+OVERLAP_NOTE = ("overlap spans between tension sections are not modelled: each section is designed on its own, "
+                "with balance weights at both ends and a mid-point anchor")
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineOptions:
+    """How a line is designed (numerics and the pre-sag rule; the band is separate).
+
+    Attributes
+    ----------
+    rule : str
+        ``proportional`` (S = S_rel·l, Swedish practice) or ``per-span``.
+    element_length : float
+        Longest element of the static model. [m]
+    step : float
+        Point spacing of the elasticity curves. [m]
+    geometry_tolerance : float
+        Largest miss of a form-finding target accepted. The static model's default, 0.05 mm, is not
+        reached on sections that change from straight track to a curve (the form-finding passes
+        stagnate at 0.1–0.4 mm there, as notebook 05 finds on curves); 0.5 mm is a tenth of a dropper's
+        installation tolerance. [m]
+    workers : int
+        Processes for the sections. [-]
+    """
+
+    rule: str = "proportional"
+    element_length: float = 0.5
+    step: float = 1.0
+    geometry_tolerance: float = 5e-4
+    workers: int = 2
+
+    def __post_init__(self) -> None:
+        if self.rule not in PRESAG_RULES:
+            raise ModelError(f"rule = {self.rule!r} is not one of {', '.join(PRESAG_RULES)}")
+        if not 0.05 <= self.element_length <= 2.0:
+            raise ModelError(f"element_length = {self.element_length:g} m is outside the valid range [0.05, 2] m")
+        if not 0.1 <= self.step <= 5.0:
+            raise ModelError(f"step = {self.step:g} m is outside the valid range [0.1, 5] m")
+        if not 1e-6 <= self.geometry_tolerance <= 1e-3:
+            raise ModelError(f"geometry_tolerance = {self.geometry_tolerance * 1e3:g} mm is outside the valid range "
+                             "[0.001, 1] mm")
+        if not 1 <= self.workers <= 64:
+            raise ModelError(f"workers = {self.workers} is outside the valid range [1, 64]")
+
+
+@dataclass(frozen=True, kw_only=True)
+class SectionSizing:
+    """Pass 1 of one section.
+
+    Attributes
+    ----------
+    recommendation : LayoutRecommendation
+        The quasi-static Δe rule over the band, from the sized (inner) spans.
+    elasticity : SectionElasticity
+        The elasticity curves of every span (the end spans too, for the span table).
+    """
+
+    recommendation: LayoutRecommendation
+    elasticity: SectionElasticity
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpanDesign:
+    """One span as designed (a row of ``spans.csv``).
+
+    Attributes
+    ----------
+    section : str
+        Section id.
+    span : int
+        Span number within the section, from 1. [-]
+    from_mast, to_mast : str
+        Mast ids.
+    chainage : float
+        Chainage of ``from_mast``. [m]
+    length : float
+        Span length. [m]
+    presag : float
+        Pre-sag built at mid-span, below the line between the supports. [m]
+    e_mid, e_mast, delta_e : float
+        Elasticity at mid-span, at ``from_mast`` and Δe = e_max − e_min at the band-centre F_m. [m/N]
+    steady_arm_force : float
+        Axial force of the steady arm at ``from_mast`` in the built state: + tension (pull-off),
+        − compression (push-off). [N]
+    static_uplift : float
+        Static uplift estimate at ``from_mast``: F_m at the top of the band times e_mast there. [m]
+    sized : bool
+        Whether the span took part in sizing the pre-sag (not the section's end spans).
+    """
+
+    section: str
+    span: int
+    from_mast: str
+    to_mast: str
+    chainage: float
+    length: float
+    presag: float
+    e_mid: float
+    e_mast: float
+    delta_e: float
+    steady_arm_force: float
+    static_uplift: float
+    sized: bool
+
+
+@dataclass(frozen=True, kw_only=True)
+class DropperDesign:
+    """One dropper as built (a row of ``droppers.csv``).
+
+    Attributes
+    ----------
+    section, from_mast, to_mast : str
+        Section and mast ids.
+    span, dropper : int
+        Span within the section and dropper within the span, both from 1. [-]
+    position : float
+        Distance from ``from_mast``. [m]
+    length : float
+        Unstretched length between the messenger and contact-wire clamp points (cut length). [m]
+    contact_wire_height : float
+        Contact-wire height above the rail at the dropper in the built equilibrium. [m]
+    presag : float
+        Depth of the contact wire below the straight line between its supports there. [m]
+    """
+
+    section: str
+    span: int
+    from_mast: str
+    to_mast: str
+    dropper: int
+    position: float
+    length: float
+    contact_wire_height: float
+    presag: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class SectionDesign:
+    """One tension section designed.
+
+    Attributes
+    ----------
+    section : str
+        Section id.
+    catenary : Catenary
+        The section's model at the built pre-sag.
+    sizing : SectionSizing
+        Pass 1: the elasticity and the quasi-static Δe rule over the band.
+    spans : tuple of SpanDesign
+    droppers : tuple of DropperDesign
+    rules : tuple of RuleCheck
+        Design-rule checks of the section.
+    """
+
+    section: str
+    catenary: Catenary
+    sizing: SectionSizing
+    spans: tuple[SpanDesign, ...]
+    droppers: tuple[DropperDesign, ...]
+    rules: tuple[RuleCheck, ...]
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineDesign:
+    """A surveyed line designed.
+
+    Attributes
+    ----------
+    survey : Survey
+        The input.
+    base_name : str
+        The system model used.
+    band : OperatingBand
+        Forces and speeds.
+    options : LineOptions
+    presag_rel : float
+        The line's S_rel (mean of the sections' range ends). [-]
+    decision : Decision
+        What to build and why.
+    sections : tuple of SectionDesign
+    notes : tuple of str
+        What is not modelled or checked.
+    """
+
+    survey: Survey
+    base_name: str
+    band: OperatingBand
+    options: LineOptions
+    presag_rel: float
+    decision: Decision
+    sections: tuple[SectionDesign, ...]
+    notes: tuple[str, ...]
+
+    @property
+    def spans(self) -> tuple[SpanDesign, ...]:
+        """Every span of every section, in track order."""
+        return tuple(s for sec in self.sections for s in sec.spans)
+
+    @property
+    def droppers(self) -> tuple[DropperDesign, ...]:
+        """Every dropper, in track order."""
+        return tuple(d for sec in self.sections for d in sec.droppers)
+
+    @property
+    def rules(self) -> tuple[RuleCheck, ...]:
+        """Every design-rule check."""
+        return tuple(r for sec in self.sections for r in sec.rules)
+
+    @property
+    def nominal_span_length(self) -> float:
+        """Mean span length of the line (to 0.1 m), the span the decision is quoted on. [m]"""
+        return round(float(np.mean([s.length for s in self.spans])), 1)
+
+
+def design_line(
+    survey: Survey,
+    base: Catenary,
+    band: OperatingBand,
+    options: LineOptions | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> LineDesign:
+    """Design every tension section of a surveyed line (see the module docstring).
+
+    Parameters
+    ----------
+    survey : Survey
+        Masts, sections and their geometry.
+    base : Catenary
+        System whose wires, tensions, droppers and supports are used; the survey replaces its
+        layout and mast geometry.
+    band : OperatingBand
+        Static forces, speeds and α_ae.
+    options : LineOptions, optional
+        Pre-sag rule and numerics.
+    progress : callable, optional
+        Called with a short message as sections finish.
+
+    Raises
+    ------
+    ModelError
+        A section the base system cannot be built on (e.g. a span too short for its dropper rule,
+        droppers shorter than the shortest buildable one).
+    """
+    options = options or LineOptions()
+    if not isinstance(survey, Survey):
+        raise ModelError(f"survey must be a Survey, not {type(survey).__name__}")
+    sections = survey.sections()
+    catenaries = [section_catenary(base, s, label=f"{survey.source}, section {s.section}") for s in sections]
+    low, high = band.mean_force_band()
+    levels = force_levels_for_band(low, high)
+    settings = StaticSettings(element_length=options.element_length, geometry_tolerance=options.geometry_tolerance)
+    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings) for c in catenaries],
+                          options.workers, "sizing", progress)
+    layouts = [s.recommendation for s in sizing]
+    presag_rel = float(np.mean([end for lay in layouts for end in lay.presag_rel_range]))
+    decision = quick_decision(layouts, presag_rel, band)
+    jobs = [(c, sec, size, presag_rel, options.rule, band, settings, survey.working_width)
+            for c, sec, size in zip(catenaries, sections, sizing)]
+    built = _in_parallel(_build_section, jobs, options.workers, "building", progress)
+    notes = (OVERLAP_NOTE,
+             "elasticity per span is that of the sizing pass (the base model's pre-sag) at the band-centre F_m",
+             "the steady-arm uplift is a static estimate unless a dynamic check is run")
+    return LineDesign(survey=survey, base_name=base.name, band=band, options=options, presag_rel=presag_rel,
+                      decision=decision, sections=tuple(built), notes=notes)
+
+
+def _named(job: Callable, *args):
+    """``job(*args)`` with the section's name in front of an error's message (the first argument is its catenary)."""
+    try:
+        return job(*args)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{args[0].layout.label}: {exc}", exc.stats) from exc
+    except ModelError as exc:
+        raise ModelError(f"{args[0].layout.label}: {exc}") from exc
+
+
+def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str,
+                 progress: Callable[[str], None] | None) -> list:
+    """Run ``job(*args)`` for every section, in forked processes where there are several."""
+    workers = min(workers, len(arguments), os.cpu_count() or 1)
+    if workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        out = []
+        for i, args in enumerate(arguments, start=1):
+            out.append(_named(job, *args))
+            if progress:
+                progress(f"{stage}: section {i}/{len(arguments)} done")
+        return out
+    with worker_pool(workers, "fork") as pool:
+        futures = [pool.submit(_named, job, *args) for args in arguments]
+        for done, _ in enumerate(as_completed(futures), start=1):
+            if progress:
+                progress(f"{stage}: sections done {done}/{len(arguments)}")
+        return [f.result() for f in futures]
+
+
+def _size_section(catenary: Catenary, levels, band: OperatingBand, step: float,
+                  settings: StaticSettings) -> SectionSizing:
+    """Pass 1 of one section: elasticity of every span, the Δe rule over the band from the inner spans."""
+    everything = section_elasticity(catenary, force_levels=levels, spans=range(catenary.layout.n_spans), step=step,
+                                    settings=settings)
+    inner = set(_sized_spans(catenary))
+    sized = SectionElasticity(catenary=everything.catenary,
+                              studies=tuple(s for s in everything.studies if s.span in inner),
+                              force_levels=everything.force_levels, elasticity_method=everything.elasticity_method,
+                              step=everything.step)
+    return SectionSizing(recommendation=layout_recommendation(sized, band), elasticity=everything)
+
+
+def _sized_spans(catenary: Catenary) -> tuple[int, ...]:
+    """Spans that size the pre-sag: all but the two end spans (also on a section of equal spans)."""
+    n = catenary.layout.n_spans
+    return tuple(range(1, n - 1)) if n > 3 else default_spans(catenary)
+
+
+def _span_presags(catenary: Catenary, sizing: SectionSizing, presag_rel: float, rule: str) -> np.ndarray:
+    """Mid-span pre-sag to build in every span. [m]"""
+    lengths = np.asarray(catenary.layout.span_lengths)
+    if rule == "proportional":
+        return presag_rel * lengths
+    rec = sizing.recommendation
+    own = dict(zip(rec.at_band_low.spans, 0.5 * (rec.at_band_low.presag_rel + rec.at_band_high.presag_rel)))
+    return np.array([own.get(s, presag_rel) for s in range(len(lengths))]) * lengths
+
+
+def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSizing, presag_rel: float,
+                   rule: str, band: OperatingBand, settings: StaticSettings, working_width: float) -> SectionDesign:
+    """Pass 2 of one section: form-find at the pre-sag to build; spans, droppers, rule checks."""
+    presag = _span_presags(catenary, sizing, presag_rel, rule)
+    lengths = np.asarray(catenary.layout.span_lengths)
+    if rule == "proportional":
+        built_model = catenary.with_presag(presag_rel)
+    else:
+        depths = [4.0 * s * (x / l) * (1.0 - x / l)
+                  for s, l, x in ((s, l, catenary.droppers.positions_in_span(l)) for s, l in zip(presag, lengths))]
+        built_model = catenary.with_presag_profile(depths)
+    state = form_find(built_model, settings)
+    disc = state.discretisation
+    ids = [m.mast for m in section.masts]
+    centre = 0.5 * sum(band.mean_force_band())
+    top = band.mean_force_band()[1]
+    curves = dict(zip(sizing.elasticity.spans, sizing.elasticity.curves_at(centre)))
+    arm = state.steady_arm_forces()
+    inner = set(_sized_spans(catenary))
+    spans = tuple(
+        SpanDesign(section=section.section, span=s + 1, from_mast=ids[s], to_mast=ids[s + 1],
+                   chainage=section.masts[s].chainage, length=float(lengths[s]), presag=float(presag[s]),
+                   e_mid=curves[s].e_mid, e_mast=float(curves[s].elasticity[0]), delta_e=curves[s].delta_e,
+                   steady_arm_force=float(arm[s]) if len(arm) else 0.0,
+                   static_uplift=top * float(curves[s].elasticity[0]), sized=s in inner)
+        for s in range(len(lengths))
+    )
+    cut = state.params.unstretched_length[disc.dropper_elements]
+    cw_nodes = disc.axial.node_a[disc.dropper_elements]
+    droppers, count = [], {}
+    for span, x, length, node in zip(disc.dropper_span, disc.dropper_position, cut, cw_nodes):
+        count[span] = count.get(span, 0) + 1
+        droppers.append(DropperDesign(
+            section=section.section, span=int(span) + 1, from_mast=ids[span], to_mast=ids[span + 1],
+            dropper=count[span], position=float(x), length=float(length),
+            contact_wire_height=float(state.positions[node, 2]),
+            presag=float(built_model.presag_depth(int(span), np.array([x]))[0])))
+    rules = check_rules(section, built_model, droppers, band, working_width)
+    return SectionDesign(section=section.section, catenary=built_model, sizing=sizing, spans=spans,
+                         droppers=tuple(droppers), rules=rules)

@@ -1,0 +1,188 @@
+"""The outputs of a designed line: ``droppers.csv``, ``spans.csv``, ``index.html`` and an xlsx workbook.
+
+Edge units (mm, m, N, mm/N, ‰) as the column names say. Spans count from 1 within each section,
+droppers from 1 within each span, from ``from_mast``.
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import tempfile
+from pathlib import Path
+
+from presag_opt.design.band import KMH
+from presag_opt.design.line import LineDesign
+from presag_opt.errors import ModelError
+from presag_opt.report.html import CSS, _e, _table, decision_html
+
+DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
+                   "contact_wire_height_mm", "presag_mm")
+"""Columns of ``droppers.csv``."""
+
+SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_rel_permille",
+                "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm")
+"""Columns of ``spans.csv`` (steady-arm pull and static uplift at ``from_mast``)."""
+
+
+def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
+    """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
+    return [{"section": d.section, "span": d.span, "from_mast": d.from_mast, "to_mast": d.to_mast, "dropper": d.dropper,
+             "x_from_mast_m": round(d.position, 3), "dropper_length_mm": round(d.length * 1e3, 1),
+             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "presag_mm": round(d.presag * 1e3, 1)}
+            for d in design.droppers]
+
+
+def span_rows(design: LineDesign) -> list[dict[str, object]]:
+    """The span table as rows."""
+    return [{"section": s.section, "span": s.span, "from_mast": s.from_mast, "to_mast": s.to_mast,
+             "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
+             "presag_rel_permille": round(s.presag / s.length * 1e3, 4), "e_mid_mm_per_N": round(s.e_mid * 1e3, 4),
+             "e_mast_mm_per_N": round(s.e_mast * 1e3, 4), "delta_e_mm_per_N": round(s.delta_e * 1e3, 4),
+             "steady_arm_pull_N": round(s.steady_arm_force, 1), "static_uplift_mm": round(s.static_uplift * 1e3, 1)}
+            for s in design.spans]
+
+
+def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = False,
+                       dynamic_check: str | None = None) -> dict[str, Path]:
+    """Write ``droppers.csv``, ``spans.csv``, ``index.html`` (and ``line_design.xlsx``) into ``folder``.
+
+    Parameters
+    ----------
+    design : LineDesign
+        The designed line.
+    folder : str or Path
+        Output folder (created if missing).
+    xlsx : bool
+        Also write the tables as one workbook (needs openpyxl).
+    dynamic_check : str, optional
+        HTML of a dynamic check to include.
+
+    Returns
+    -------
+    dict
+        Output name -> path.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    tables = {"droppers": (DROPPER_COLUMNS, dropper_rows(design)), "spans": (SPAN_COLUMNS, span_rows(design))}
+    out = {}
+    for name, (columns, rows) in tables.items():
+        path = folder / f"{name}.csv"
+        with path.open("w", newline="", encoding="utf-8") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(columns))
+            writer.writeheader()
+            writer.writerows(rows)
+        out[name] = path
+    if xlsx:
+        out["xlsx"] = _write_workbook(design, tables, folder / "line_design.xlsx")
+    out["html"] = folder / "index.html"
+    out["html"].write_text(line_page(design, dynamic_check), encoding="utf-8")
+    return out
+
+
+def _write_workbook(design: LineDesign, tables: dict, path: Path) -> Path:
+    try:
+        import openpyxl
+    except ImportError as exc:
+        raise ModelError("--xlsx needs openpyxl: pip install 'presag-opt[xlsx]'") from exc
+    book = openpyxl.Workbook()
+    book.remove(book.active)
+    sheet = book.create_sheet("decision")
+    for line in design.decision.lines(design.nominal_span_length):
+        sheet.append([line.strip()])
+    for name, (columns, rows) in tables.items():
+        sheet = book.create_sheet(name)
+        sheet.append(list(columns))
+        for row in rows:
+            sheet.append([row[c] for c in columns])
+    sheet = book.create_sheet("rules")
+    sheet.append(["section", "rule", "applies", "status", "worst"])
+    for r in design.rules:
+        sheet.append([r.section, r.rule, r.applies, r.status, r.worst])
+    book.save(path)
+    return path
+
+
+def line_page(design: LineDesign, dynamic_check: str | None = None) -> str:
+    """The line report as one self-contained HTML page (figures embedded)."""
+    band = design.band
+    low, high = band.mean_force_band()
+    l_nom = design.nominal_span_length
+    parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Line design</title>"
+             f"<style>{CSS}</style></head><body>",
+             f"<h1>Line design: {_e(design.survey.source)} on {_e(design.base_name)}</h1>",
+             decision_html(design.decision, l_nom)]
+    failing = [r for r in design.rules if not r.passed]
+    if failing:
+        parts.append("<div class='warn' id='rules-failing'><p><b>Design rules not met</b></p><ul>"
+                     + "".join(f"<li>section {_e(r.section)}: {_e(r.rule)} — {_e(r.worst)} ({_e(r.status)})</li>"
+                               for r in failing) + "</ul></div>")
+    parts.append("<div class='summary'><p>" + "</p><p>".join(_e(n) for n in design.notes) + "</p></div>")
+    parts.append("<h2>Line and band</h2>" + _table(
+        ["masts", "sections", "length", "band", "F_m", "pre-sag rule", "line S_rel"],
+        [[len(design.survey.masts), len(design.sections), f"{design.survey.length:.0f} m",
+          f"F_stat {band.static_force_low:g}–{band.static_force_high:g} N, {band.speed_low / KMH:g}–"
+          f"{band.speed_high / KMH:g} km/h", f"{low:.0f}–{high:.0f} N", design.options.rule,
+          f"{design.presag_rel * 1e3:.3f} ‰"]]))
+    parts.append("<h2 id='along'>Elasticity and pre-sag along the line</h2>" + _along_figure(design))
+    if dynamic_check:
+        parts.append("<h2 id='dynamic'>Dynamic check</h2>" + dynamic_check)
+    parts.append("<h2 id='rules'>Design rules</h2><p>Public examples from Bane NOR's technical regulations for "
+                 "contact line systems; each is stated for a speed range.</p>" + _table(
+        ["section", "rule", "applies at this band", "status", "worst"],
+        [[r.section, r.rule, "yes" if r.applies else "no", r.status, r.worst] for r in design.rules]))
+    for sec in design.sections:
+        rec = sec.sizing.recommendation
+        parts.append(f"<h2 id='section-{_e(sec.section)}'>Section {_e(sec.section)}</h2><p>S_rel range over the band "
+                     f"(Δe rule, inner spans): {rec.presag_rel_range[0] * 1e3:.3f}–{rec.presag_rel_range[1] * 1e3:.3f} ‰; "
+                     f"β_max {rec.speed.beta_max:.2f}.</p>" + _table(
+            ["span", "masts", "l [m]", "S [mm]", "e_mid [mm/N]", "e_mast [mm/N]", "Δe [mm/N]", "steady arm [N]",
+             "static uplift [mm]", "sized"],
+            [[s.span, f"{s.from_mast}–{s.to_mast}", f"{s.length:.1f}", f"{s.presag * 1e3:.1f}", f"{s.e_mid * 1e3:.3f}",
+              f"{s.e_mast * 1e3:.3f}", f"{s.delta_e * 1e3:.3f}", f"{s.steady_arm_force:.0f}",
+              f"{s.static_uplift * 1e3:.1f}", "yes" if s.sized else "no (end span)"] for s in sec.spans],
+            {0, 2, 3, 4, 5, 6, 7, 8}))
+    parts.append("<p><small>Generated by presag_opt. Method: Schick, Liu &amp; Stichel, Railway Sciences (2025), "
+                 "doi:10.1108/RS-05-2025-0016.</small></p></body></html>")
+    return "\n".join(parts)
+
+
+def plot_along_line(design: LineDesign, path: str | Path) -> Path:
+    """Save e_mid, e at the masts and Δe (top) and the pre-sag built (bottom) against chainage.
+
+    Parameters
+    ----------
+    design : LineDesign
+        The designed line.
+    path : str or Path
+        Output file; the suffix sets the format.
+    """
+    from presag_opt.style import new_figure, save_figure
+
+    spans = design.spans
+    mid = [s.chainage + 0.5 * s.length for s in spans]
+    fig, (top, bottom) = new_figure(2, 1, width=9.0, height=5.5, sharex=True)
+    top.plot(mid, [s.e_mid * 1e3 for s in spans], "o-", label="e_mid")
+    top.plot([s.chainage for s in spans], [s.e_mast * 1e3 for s in spans], "s", label="e at the mast (from_mast)")
+    top.plot(mid, [s.delta_e * 1e3 for s in spans], "^-", label="Δe")
+    top.set_ylabel("elasticity [mm/N]")
+    top.legend()
+    bottom.bar(mid, [s.presag * 1e3 for s in spans], width=[0.8 * s.length for s in spans], label="pre-sag built")
+    bottom.set_ylabel("pre-sag [mm]")
+    bottom.set_xlabel("chainage [m]")
+    for sec in design.sections[1:]:
+        for ax in (top, bottom):
+            ax.axvline(sec.spans[0].chainage, color="0.5", lw=0.8, ls="--")
+    return save_figure(fig, path)
+
+
+def _along_figure(design: LineDesign) -> str:
+    """:func:`plot_along_line` as an embedded PNG."""
+    with tempfile.TemporaryDirectory(prefix="presag-line-") as tmp:
+        path = plot_along_line(design, Path(tmp) / "along.png")
+        data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (f"<figure id='fig-along'><img class='report-figure' src='data:image/png;base64,{data}' "
+            "alt='elasticity and pre-sag along the chainage'><figcaption>Elasticity at the band-centre F_m and the "
+            "pre-sag built along the chainage; dashed: section boundaries (overlap spans not modelled).</figcaption>"
+            "</figure>")

@@ -1,0 +1,179 @@
+"""Elements, masses and holds of a catenary section as :func:`~presag_opt.static.discretisation.discretise`
+collects them: wire segments and bending triples, droppers, steady arms or ground springs, messenger-wire
+pins.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from presag_opt.errors import ModelError
+from presag_opt.system.catenary import Catenary, SpringSupport, SteadyArm, Wire
+
+# Axial element groups.
+CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM = 0, 1, 2, 3
+GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm")
+
+@dataclass(frozen=True, kw_only=True)
+class AxialElements:
+    """Two-node spring elements (arrays of equal length)."""
+
+    node_a: np.ndarray
+    node_b: np.ndarray
+    stiffness: np.ndarray  # [N/m]
+    design_length: np.ndarray  # [m] length in the design (target) state
+    group: np.ndarray  # CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM
+
+    def __len__(self) -> int:
+        return len(self.node_a)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BendingTriples:
+    """Three consecutive wire nodes a-b-c with the reference spacings and EI."""
+
+    node_a: np.ndarray
+    node_b: np.ndarray
+    node_c: np.ndarray
+    spacing_ab: np.ndarray  # [m]
+    spacing_bc: np.ndarray  # [m]
+    bending_stiffness: np.ndarray  # [N m^2]
+
+    @classmethod
+    def empty(cls) -> BendingTriples:
+        """No bending (pure cables)."""
+        none_i, none_f = np.zeros(0, dtype=int), np.zeros(0)
+        return cls(node_a=none_i, node_b=none_i, node_c=none_i, spacing_ab=none_f, spacing_bc=none_f,
+                   bending_stiffness=none_f)
+
+
+@dataclass
+class SectionElements:
+    """Elements, masses and holds collected span by span (mutable; :func:`discretise` freezes them)."""
+
+    node_mass: np.ndarray
+    fixed: np.ndarray
+    ax_a: list = field(default_factory=list)
+    ax_b: list = field(default_factory=list)
+    ax_k: list = field(default_factory=list)
+    ax_len: list = field(default_factory=list)
+    ax_grp: list = field(default_factory=list)
+    bend: dict = field(default_factory=lambda: {"a": [], "b": [], "c": [], "h1": [], "h2": [], "ei": []})
+    springs_dof: list = field(default_factory=list)
+    springs_k: list = field(default_factory=list)
+    springs_mast: list = field(default_factory=list)
+    arm_a: list = field(default_factory=list)
+    arm_b: list = field(default_factory=list)
+    arm_k: list = field(default_factory=list)
+    arm_len: list = field(default_factory=list)
+    arm_masts: list = field(default_factory=list)
+    pin_nodes: list = field(default_factory=list)
+    pin_normals: list = field(default_factory=list)
+
+    @property
+    def n_axial(self) -> int:
+        """Axial elements added so far."""
+        return sum(len(a) for a in self.ax_a)
+
+    def _append(self, a, b, k, length, group) -> None:
+        self.ax_a.append(np.asarray(a))
+        self.ax_b.append(np.asarray(b))
+        self.ax_k.append(np.asarray(k))
+        self.ax_len.append(np.asarray(length))
+        self.ax_grp.append(np.full(len(length), group))
+
+    def add_wire(self, nodes: np.ndarray, wire: Wire, group: int, pos: np.ndarray) -> None:
+        """Segments (stiffness EA over the unstretched length at the wire's tension), lumped mass and
+        bending triples of one wire."""
+        seg = np.linalg.norm(np.diff(pos, axis=0), axis=1)
+        unstretched = seg / (1.0 + wire.tension / wire.axial_stiffness)
+        self._append(nodes[:-1], nodes[1:], wire.axial_stiffness / unstretched, seg, group)
+        np.add.at(self.node_mass, nodes[:-1], 0.5 * wire.mass_per_length * seg)
+        np.add.at(self.node_mass, nodes[1:], 0.5 * wire.mass_per_length * seg)
+        if wire.bending_stiffness > 0.0:
+            b = self.bend
+            b["a"].append(nodes[:-2])
+            b["b"].append(nodes[1:-1])
+            b["c"].append(nodes[2:])
+            b["h1"].append(seg[:-1])
+            b["h2"].append(seg[1:])
+            b["ei"].append(np.full(len(seg) - 1, wire.bending_stiffness))
+
+    def add_droppers(self, cat: Catenary, d_cw: np.ndarray, d_mw: np.ndarray, d_len: np.ndarray) -> int:
+        """Droppers between the contact and messenger wire nodes, with their and their clamps' mass."""
+        if np.any(d_len <= 0.0):
+            raise ModelError("the messenger-wire first guess lies below the contact wire; check system_height")
+        spec = cat.droppers
+        d_k = np.full(len(d_len), spec.stiffness) if spec.stiffness is not None else spec.axial_stiffness / d_len
+        d_mass = spec.mass_per_length * d_len
+        np.add.at(self.node_mass, d_cw, 0.5 * d_mass + spec.clamp_mass)
+        np.add.at(self.node_mass, d_mw, 0.5 * d_mass + spec.clamp_mass)
+        self._append(d_cw, d_mw, d_k, d_len, DROPPER)
+        return len(d_len)
+
+    def add_contact_wire_supports(self, support: SteadyArm | SpringSupport, mast_cw: np.ndarray) -> None:
+        """A steady arm (its pivot a new node, numbered after the wires) or a ground spring at each mast."""
+        n_wire_nodes = len(self.node_mass)
+        for m, node in enumerate(mast_cw):
+            if isinstance(support, SteadyArm):
+                self.arm_a.append(node)
+                self.arm_b.append(n_wire_nodes + len(self.arm_a) - 1)
+                self.arm_k.append(support.axial_stiffness / support.length)
+                self.arm_len.append(support.length)
+                self.arm_masts.append(m)
+                self.node_mass[node] += 0.5 * support.mass
+            else:
+                self.springs_dof.append(3 * node + 2)
+                self.springs_k.append(support.stiffness)
+                self.springs_mast.append(m)
+                self.node_mass[node] += support.mass
+                self.fixed[node, 1] = True  # a spring support has no lateral freedom of its own
+
+    def add_messenger_wire_supports(self, support, mast_mw: np.ndarray, normal: np.ndarray) -> None:
+        """A pin (across the track and vertically) or a ground spring at each mast."""
+        for m, node in enumerate(mast_mw):
+            if isinstance(support, SpringSupport):
+                self.fixed[node, 1] = True
+                self.springs_dof.append(3 * node + 2)
+                self.springs_k.append(support.stiffness)
+                self.springs_mast.append(m)
+                self.node_mass[node] += support.mass
+            elif abs(normal[m, 0]) < 1e-12:
+                self.fixed[node, 1:] = True
+            else:
+                # On a curve the pin holds the wire across the track (along the mast normal), not along y.
+                self.fixed[node, 2] = True
+                self.pin_nodes.append(node)
+                self.pin_normals.append(normal[m])
+
+    def add_steady_arms(self) -> int:
+        """Append the steady-arm elements and their (fixed) pivot nodes; return the first arm's index."""
+        first = self.n_axial
+        if self.arm_a:
+            self.fixed = np.vstack([self.fixed, np.ones((len(self.arm_a), 3), dtype=bool)])
+            self.node_mass = np.concatenate([self.node_mass, np.zeros(len(self.arm_a))])
+            self._append(self.arm_a, self.arm_b, self.arm_k, self.arm_len, STEADY_ARM)
+        return first
+
+    def axial(self) -> AxialElements:
+        """All axial elements in the order added."""
+        return AxialElements(
+            node_a=np.concatenate(self.ax_a).astype(int),
+            node_b=np.concatenate(self.ax_b).astype(int),
+            stiffness=np.concatenate(self.ax_k).astype(float),
+            design_length=np.concatenate(self.ax_len).astype(float),
+            group=np.concatenate(self.ax_grp).astype(int),
+        )
+
+    def bending(self) -> BendingTriples:
+        """The wires' bending triples (none for pure cables)."""
+        b = self.bend
+        if not b["a"]:
+            return BendingTriples.empty()
+        return BendingTriples(
+            node_a=np.concatenate(b["a"]), node_b=np.concatenate(b["b"]), node_c=np.concatenate(b["c"]),
+            spacing_ab=np.concatenate(b["h1"]), spacing_bc=np.concatenate(b["h2"]),
+            bending_stiffness=np.concatenate(b["ei"]),
+        )

@@ -1,0 +1,119 @@
+"""``presag design`` as a user runs it (the installed console script, outside the source tree): the outputs
+with exactly their columns, the decision at the head, the design rules, and the survey's bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from presag_opt.report.line_report import DROPPER_COLUMNS, SPAN_COLUMNS
+from presag_opt.system.survey import COLUMNS
+
+SCRIPT = Path(sys.executable).parent / "presag"
+FAST = ("--element-length", "1.0", "--step", "2.0")
+
+
+def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
+    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
+
+
+def survey_file(folder: Path, rows: list[str], name: str = "line.csv") -> Path:
+    path = folder / name
+    path.write_text("\n".join([",".join((*COLUMNS, "section")), *rows]) + "\n", encoding="utf-8")
+    return path
+
+
+def line_rows(bridge_system_height: float = 1.2) -> list[str]:
+    """Two sections of four 30 m spans; a bridge at masts B2 and B3 lowers the wire by 0.3 m."""
+    rows = []
+    for i in range(5):
+        rows.append(f"A{i + 1},{30 * i},{300 if i % 2 == 0 else -300},5.5,1.2,,pull-off,A")
+    for i in range(5):
+        low = i in (1, 2)
+        rows.append(f"B{i + 1},{150 + 30 * i},{300 if i % 2 == 0 else -300},{5.2 if low else 5.5},"
+                    f"{bridge_system_height if low else 1.2},,pull-off,B")
+    return rows
+
+
+@pytest.fixture(scope="module")
+def designed(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("design")
+    survey = survey_file(folder, line_rows(bridge_system_height=0.6))
+    result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--max-speed", "160",
+                    "--xlsx", "--json", "--progress", *FAST, cwd=folder)
+    return folder, result
+
+
+def test_outputs_have_exactly_their_columns_and_json_stays_pure(designed):
+    folder, result = designed
+    assert result.returncode == 0, result.stderr
+    summary = json.loads(result.stdout)
+    assert "sizing" in result.stderr and "building" in result.stderr  # progress on standard error
+    with (folder / "out" / "droppers.csv").open(encoding="utf-8") as handle:
+        droppers = list(csv.DictReader(handle))
+    with (folder / "out" / "spans.csv").open(encoding="utf-8") as handle:
+        spans = list(csv.DictReader(handle))
+    assert tuple(droppers[0]) == DROPPER_COLUMNS and tuple(spans[0]) == SPAN_COLUMNS
+    assert len(spans) == 8 and len(droppers) == summary["droppers"]
+    # spans count from 1 within each section, droppers from 1 within each span
+    assert [r["span"] for r in spans] == ["1", "2", "3", "4"] * 2
+    assert [r["dropper"] for r in droppers if r["section"] == "A" and r["span"] == "1"] == ["1", "2", "3", "4"]
+    assert (folder / "out" / "line_design.xlsx").stat().st_size > 1000
+    page = (folder / "out" / "index.html").read_text(encoding="utf-8")
+    assert summary["decision"]["headline"] in page
+    assert page.index("id='decision'") < page.index("id='along'")
+    assert "overlap spans between tension sections are not modelled" in page
+
+
+def test_a_lowered_wire_at_a_bridge_makes_droppers_too_short_and_the_design_says_so(designed):
+    folder, result = designed
+    summary = json.loads(result.stdout)
+    failing = {(r["section"], r["rule"].split(" ≥")[0]): r for r in summary["rules_failing"]}
+    short = failing[("B", "shortest dropper")]
+    assert short["status"] == "FAILS"  # the rule applies at 160 km/h
+    assert "span 2" in short["worst"] or "span 3" in short["worst"]
+    assert not any(section == "A" for section, _ in failing)
+    with (folder / "out" / "droppers.csv").open(encoding="utf-8") as handle:
+        lengths = [float(r["dropper_length_mm"]) for r in csv.DictReader(handle) if r["section"] == "B"]
+    assert min(lengths) < 500.0
+    # at 160 km/h (β 0.46 on 9.8 kN) the quasi-static answer is provisional, and the decision says why
+    assert summary["decision"]["status"] == "provisional" and "β_max = 0.46" in summary["decision"]["reason"]
+
+
+@pytest.mark.parametrize(("row", "expected"), [
+    ("A3,60,450,5.5,1.2,,pull-off,A", "line.csv, row 4, column 'stagger_mm': 450 mm is outside the valid range [-400, 400] mm"),
+    ("A3,20,300,5.5,1.2,,pull-off,A", "line.csv, row 4, column 'chainage_m': 20 m does not increase from 30 m"),
+    ("A3,60,300,5.5,1.2,,cantilever,A", "line.csv, row 4, column 'steady_arm': 'cantilever' is not a steady-arm type"),
+    ("A3,60,300,5.5,1.2,80,pull-off,A", "line.csv, row 4, column 'curve_radius_m': 80 m is outside the valid range"),
+])
+def test_bad_survey_values_end_with_one_line(tmp_path, row, expected):
+    rows = line_rows()
+    rows[2] = row
+    result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out", *FAST,
+                    cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    line = result.stderr.strip().splitlines()[-1]
+    assert expected in line
+    assert not (tmp_path / "out" / "droppers.csv").exists()  # nothing is computed from a table with an error
+
+
+def test_dynamic_check_simulates_the_worst_section_and_decides_again(tmp_path):
+    rows = [f"A{i + 1},{50 * i},{300 if i % 2 == 0 else -300},5.5,1.2,,pull-off,A" for i in range(7)]
+    result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out",
+                    "--dynamic-check", "--json", *FAST, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    decision = json.loads(result.stdout)["decision"]
+    chosen = decision["chosen"]
+    assert chosen["uplift_dynamic"] is True
+    # a dynamic uplift of a 9.8 kN section at 90 km/h and 140 N: tens of mm, within the 83.5 mm limit
+    assert 10.0 < chosen["uplift_mm"] < 83.5
+    assert not any("dynamic steady-arm uplift" in n for n in decision["not_checked"])
+    page = (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
+    assert "id='dynamic'" in page and "σ/F_m" in page
