@@ -39,8 +39,8 @@ Mass: lumped
     the arm mass (0.17 kg, against about 0.6 kg of wire and clamps at a registration node).
 
 Stiffness: the tangent stiffness at the equilibrium
-    The Hessian of the static model's potential energy on the free DOFs (:meth:`EquilibriumState.
-    tangent_stiffness`): material and geometric stiffness of wires, droppers and steady arms,
+    The Hessian of the static model's potential energy on the free DOFs
+    (:meth:`EquilibriumState.tangent_stiffness`): material and geometric stiffness of wires, droppers and steady arms,
     bending of the wires, support springs. Small displacements about the equilibrium: geometric
     nonlinearity is left out. Against re-solved equilibria (tension-only droppers in both) the
     uplift under a point load agrees within 0.03 % on the EN 50318-style model (spring supports) at
