@@ -50,6 +50,7 @@ extensions = [
     "myst_nb",
     "presag_cli",
     "presag_xref",
+    "presag_plaintext",
 ]
 
 # ---- sources -------------------------------------------------------------------------------------
@@ -78,6 +79,16 @@ def _copy_notebooks() -> None:
 
 
 _copy_notebooks()
+
+OUTSIDE_LINKS = {"](../models/README.md)": "](guide/models.md)"}
+"""Links of the notes (``docs/*.md``) to repository files outside ``docs/``, and the page that shows
+each file (Sphinx reads only files under ``docs/``)."""
+
+
+def _redirect_outside_links(app, docname: str, source: list[str]) -> None:
+    if "/" not in docname:
+        for old, new in OUTSIDE_LINKS.items():
+            source[0] = source[0].replace(old, new)
 
 # ---- myst and myst-nb ----------------------------------------------------------------------------
 
@@ -168,3 +179,7 @@ html_theme_options = {
 }
 html_sidebars = {"changelog": [], "getting_started": []}
 html_show_sourcelink = False
+
+
+def setup(app) -> None:
+    app.connect("source-read", _redirect_outside_links)
