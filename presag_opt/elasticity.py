@@ -56,7 +56,7 @@ class ElasticityCurve:
     elasticity : ndarray
         Uplift per unit force at each position. [m/N]
     slack_droppers : ndarray of int or None
-        Number of slack droppers in the section with the force at each position (nonlinear only).
+        Number of slack droppers in the section with the force at each position (nonlinear only). [-]
     """
 
     span: int
@@ -135,7 +135,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     state : EquilibriumState
         Form-found (or loaded) equilibrium.
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
 
@@ -207,7 +207,7 @@ def nonlinear_elasticity(
     force : float
         Upward contact force. [N]
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
     method : {"newton", "active-set"}
@@ -366,7 +366,7 @@ def elasticity_study(
     state : EquilibriumState
         Form-found equilibrium.
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     forces : sequence of float
         Force levels. [N]
     step : float

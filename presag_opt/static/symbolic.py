@@ -216,7 +216,7 @@ class PotentialFunctions:
     discretisation : Discretisation
         Topology.
     free_dofs : ndarray of int
-        Degrees of freedom that move in equilibrium (not supports, anchors or pivots).
+        Degrees of freedom that move in equilibrium (not supports, anchors or pivots). [-]
     solver : BandedSolver
         Ordering and factorisation of the tangent-stiffness pattern (free DOFs, CSC).
     """
@@ -568,7 +568,7 @@ def solve_form_finding(
     wire_tension : ndarray
         Horizontal tension of each axial element that is a wire segment, 0 for the others. [N]
     target_dofs : ndarray of int
-        Degrees of freedom (heights) that must keep their design value.
+        Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
         Design coordinates (first-guess pivots). [m]
 
@@ -629,9 +629,14 @@ def target_height_sensitivity(
 
     Parameters
     ----------
-    disc, params, wire_tension, target_dofs
-        As for :func:`solve_form_finding`; ``params`` holds the solved dropper lengths and spring
-        references.
+    disc : Discretisation
+        As for :func:`solve_form_finding`.
+    params : PhysicalParameters
+        As for :func:`solve_form_finding`, holding the solved dropper lengths and spring references.
+    wire_tension : ndarray
+        As for :func:`solve_form_finding`. [N]
+    target_dofs : ndarray of int
+        As for :func:`solve_form_finding`. [-]
     positions : ndarray, shape (n_nodes, 3)
         The form-found coordinates. [m]
 
