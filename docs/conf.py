@@ -23,6 +23,7 @@ import os
 import shutil
 import sys
 from datetime import date
+from importlib import metadata
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
@@ -30,16 +31,14 @@ ROOT = DOCS.parent
 sys.path.insert(0, str(DOCS / "_ext"))
 sys.path.insert(0, str(ROOT))
 
-import presag_api  # noqa: E402  (the path above)
+import presag_api  # found through the path above
 
 project = "presag_opt"
 author = "presag_opt contributors"
-copyright = f"{date.today().year}, {author}"  # noqa: A001 (Sphinx's name)
+copyright = f"{date.today().year}, {author}"
 try:
-    from importlib.metadata import version as _version
-
-    release = _version("presag-opt")
-except Exception:  # not installed: building from a checkout
+    release = metadata.version("presag-opt")
+except metadata.PackageNotFoundError:  # not installed: building from a checkout
     release = "unknown"
 
 extensions = [
@@ -156,12 +155,12 @@ _write_api_index()
 # network access for intersphinx inventories, so references into Python, NumPy, SciPy, CasADi, cvxpy,
 # xarray and matplotlib cannot resolve: they are ignored by name.
 nitpick_ignore_regex = [
-    (r"py:.*", r"(np|numpy|scipy|sp|ca|casadi|cp|cvxpy|xr|xarray|mpl|matplotlib|plt|numba|h5py|dask|distributed|"
-               r"argparse|collections|typing|pathlib|os|concurrent|multiprocessing|tomllib|dataclasses|enum|"
-               r"types|ctypes|io|json|csv|datetime|functools|signal|subprocess|tqdm|IPython|openpyxl|SALib)(\..*)?"),
-    (r"py:.*", r"(int|float|str|bool|bytes|dict|list|tuple|set|frozenset|object|None|type|callable|Callable|"
-               r"Path|Sequence|Mapping|Iterable|Iterator|Generator|Any|ndarray|Exception|ValueError|"
-               r"RuntimeError|KeyboardInterrupt|TypeError)"),
+    (r"py:.*", (r"(np|numpy|scipy|sp|ca|casadi|cp|cvxpy|xr|xarray|mpl|matplotlib|plt|numba|h5py|dask|distributed|"
+                r"argparse|collections|typing|pathlib|os|concurrent|multiprocessing|tomllib|dataclasses|enum|"
+                r"types|ctypes|io|json|csv|datetime|functools|signal|subprocess|tqdm|IPython|openpyxl|SALib)(\..*)?")),
+    (r"py:.*", (r"(int|float|str|bool|bytes|dict|list|tuple|set|frozenset|object|None|type|callable|Callable|"
+                r"Path|Sequence|Mapping|Iterable|Iterator|Generator|Any|ndarray|Exception|ValueError|"
+                r"RuntimeError|KeyboardInterrupt|TypeError)")),
 ]
 
 # ---- HTML ----------------------------------------------------------------------------------------
@@ -177,6 +176,7 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
     "secondary_sidebar_items": ["page-toc"],
 }
+html_context = {"default_mode": "auto"}  # without it a first visit logs "invalid theme mode" to the console
 html_sidebars = {"changelog": [], "getting_started": []}
 html_show_sourcelink = False
 

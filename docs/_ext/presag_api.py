@@ -67,11 +67,12 @@ def _is_function(obj: object) -> bool:
 
 def documented_constants(module: ModuleType) -> list[str]:
     """Module-level names with a docstring (the string right after the assignment), no underscore."""
+    from sphinx.errors import PycodeError
     from sphinx.pycode import ModuleAnalyzer
 
     try:
         docs = ModuleAnalyzer.for_module(module.__name__).find_attr_docs()
-    except Exception:  # a module without source (compiled) has no attribute docstrings
+    except PycodeError:  # a module without source (compiled) has no attribute docstrings
         return []
     return [name for (scope, name) in docs if scope == "" and not name.startswith("_")]
 
