@@ -1,7 +1,7 @@
 """Every ``presag`` command written in a code block of the documentation (``docs/**/*.md`` and the
-README) is accepted by the live argument parser: a renamed option or verb fails here, not in a
-reader's terminal. Parsing runs each option's type check (bands, lists, positive numbers) but no
-command."""
+README) is accepted by the live argument parser, and every ``python`` block runs: a renamed option,
+verb or function fails here, not in a reader's terminal. Parsing runs each option's type check
+(bands, lists, numbers) but no command."""
 
 from __future__ import annotations
 
@@ -9,6 +9,8 @@ import contextlib
 import io
 import re
 import shlex
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -86,3 +88,20 @@ def test_every_command_in_the_page_parses(path):
         if not pending:
             problems.append(f"presag {arguments}: {error}")
     assert not problems, "\n".join(problems)
+
+
+def python_examples() -> list[tuple[Path, str]]:
+    return [(path, body) for path in pages() for language, body in FENCE.findall(path.read_text(encoding="utf-8"))
+            if language == "python"]
+
+
+def test_the_pages_hold_python_examples():
+    assert len(python_examples()) >= 3
+
+
+@pytest.mark.parametrize(("path", "code"), python_examples(), ids=lambda v: v.name if isinstance(v, Path) else "")
+def test_every_python_example_runs(path, code, tmp_path):
+    """Each ``python`` block of the pages runs as written, in a fresh interpreter outside the checkout."""
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                            cwd=tmp_path, check=False)
+    assert result.returncode == 0, f"{path.name}:\n{code}\n{result.stderr[-3000:]}"
