@@ -108,7 +108,7 @@ autosummary_ignore_module_all = True  # each module lists what it defines; a pac
 autosummary_imported_members = False
 autodoc_typehints = "none"  # the numpydoc Parameters sections carry the types and units
 autodoc_member_order = "bysource"
-autodoc_default_options = {"show-inheritance": False}
+autodoc_default_options: dict[str, object] = {}  # no "Bases: object" lines
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_attributes_as_param_list = True
@@ -118,6 +118,7 @@ autosummary_context = {
     "submodules": {package: [m for m in API_MODULES if m.rpartition(".")[0] == package] for package in API_MODULES},
     "reexports": {m: presag_api.reexported(m) for m in API_MODULES},
     "api_members": {m: presag_api.members(m) for m in API_MODULES},
+    "summaries": {m: presag_api.summary(m) for m in API_MODULES},
 }
 
 API_INDEX = """\
@@ -177,7 +178,7 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
 }
 html_context = {"default_mode": "auto"}  # without it a first visit logs "invalid theme mode" to the console
-html_sidebars = {"changelog": [], "getting_started": []}
+html_sidebars = {"getting_started": [], "reference/*": [], "project/*": [], "guide/physics": []}
 html_show_sourcelink = False
 
 

@@ -134,6 +134,14 @@ def _constant_home(name: str, package: str) -> str:
     return package
 
 
+def summary(module_name: str) -> str:
+    """The first sentence of a module's docstring (its first paragraph if it has no full stop)."""
+    doc = inspect.getdoc(importlib.import_module(module_name)) or ""
+    paragraph = " ".join(doc.split("\n\n")[0].split())
+    head, stop, _ = paragraph.partition(". ")
+    return head + "." if stop else paragraph
+
+
 def members(module_name: str) -> dict[str, list[str]]:
     """The public names of a module by kind, as the API page lists them (short names)."""
     out: dict[str, list[str]] = {"classes": [], "exceptions": [], "functions": [], "attributes": []}
