@@ -149,6 +149,7 @@ def _study(args: argparse.Namespace, catenary=None, **kwargs):
 
 
 def robust_command(args: argparse.Namespace) -> int:
+    """``presag robust``: the quasi-static robust design (or, with ``--dynamic``, the dynamic one)."""
     from presag_opt.robust import Buildability, Risk
 
     risk = Risk.parse(args.risk)
@@ -250,6 +251,7 @@ def check_settings(catenary):
 
 
 def tolerance_command(args: argparse.Namespace) -> int:
+    """``presag tolerance``: the installation tolerance interval of the robust study."""
     study, plot = _study(args)
     _plot(args, study, plot)
     data = study.to_dict()

@@ -212,7 +212,7 @@ def section_elasticity(
         Force levels. [N]
     spans : sequence of int, optional
         Spans to analyse, from 0. Default (:func:`default_spans`): the central span of an ideal
-        section, every span but the two end spans of a mixed one.
+        section, every span but the two end spans of a mixed one. [-]
     step : float
         Point spacing of the curves. [m]
     elasticity_method : {"active-set", "newton"}

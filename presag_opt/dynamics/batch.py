@@ -65,7 +65,7 @@ class RunOutcome:
     wave_speed : float
         Contact-wire wave speed. [m/s]
     analysed_spans : tuple of int
-        Spans (from 0) of the analysed section.
+        Spans (from 0) of the analysed section. [-]
     analysed_section : tuple of float
         Stations where the analysed section starts and ends. [m]
     newton_iterations : int

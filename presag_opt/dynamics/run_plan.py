@@ -41,7 +41,7 @@ class ContactPath:
     Attributes
     ----------
     nodes : ndarray of int, shape (n_times, 2)
-        Contact-wire nodes of the element under the head.
+        Contact-wire nodes of the element under the head. [-]
     weights : ndarray, shape (n_times, 2)
         Linear shape functions of the contact point. [-]
     compliance : ndarray, shape (n_times,)
@@ -112,7 +112,7 @@ class RunPlan:
     doppler_factor : float
         (c − v)/(c + v). [-]
     analysed_spans : tuple of int
-        Spans (from 0) of the analysed section.
+        Spans (from 0) of the analysed section. [-]
     analysed_section : tuple of float
         Stations where the analysed section starts and ends. [m]
     starts : ndarray
@@ -277,6 +277,22 @@ def run_warnings(state: EquilibriumState, plan: RunPlan) -> tuple[str, ...]:
 def recorded_droppers(
     model: StructuralModel, section: tuple[float, float], settings: SimulationSettings
 ) -> np.ndarray:
+    """Droppers whose forces a run records: all, or those inside the analysed section (``settings.droppers``).
+
+    Parameters
+    ----------
+    model : StructuralModel
+        Structural model of the section.
+    section : (float, float)
+        Start and end of the analysed section along the track. [m]
+    settings : SimulationSettings
+        Its ``droppers`` field chooses ``"all"`` or ``"analysed"``.
+
+    Returns
+    -------
+    ndarray of int
+        Indices into ``model.droppers``. [-]
+    """
     if settings.droppers == "all":
         return np.arange(len(model.droppers))
     station = model.droppers.station

@@ -137,7 +137,7 @@ class SimulationResult:
     pantographs : tuple of PantographHistory
         Front to rear.
     analysed_spans : tuple of int
-        Spans (from 0) of the analysed section.
+        Spans (from 0) of the analysed section. [-]
     analysed_section : tuple of float
         Stations where the analysed section starts and ends. [m]
     support_station : ndarray

@@ -39,8 +39,8 @@ Mass: lumped
     the arm mass (0.17 kg, against about 0.6 kg of wire and clamps at a registration node).
 
 Stiffness: the tangent stiffness at the equilibrium
-    The Hessian of the static model's potential energy on the free DOFs (:meth:`EquilibriumState.
-    tangent_stiffness`): material and geometric stiffness of wires, droppers and steady arms,
+    The Hessian of the static model's potential energy on the free DOFs
+    (:meth:`EquilibriumState.tangent_stiffness`): material and geometric stiffness of wires, droppers and steady arms,
     bending of the wires, support springs. Small displacements about the equilibrium: geometric
     nonlinearity is left out. Against re-solved equilibria (tension-only droppers in both) the
     uplift under a point load agrees within 0.03 % on the EN 50318-style model (spring supports) at
@@ -151,7 +151,7 @@ class DropperLinearisation:
     Attributes
     ----------
     dofs : ndarray of int, shape (n, 6)
-        Model DOFs (x, y, z of the contact-wire clamp, then of the messenger-wire clamp).
+        Model DOFs (x, y, z of the contact-wire clamp, then of the messenger-wire clamp). [-]
     direction : ndarray, shape (n, 3)
         Unit vector from the contact-wire clamp to the messenger-wire clamp. [-]
     axial_stiffness : ndarray, shape (n,)
@@ -202,12 +202,12 @@ class StructuralModel:
     damping_source : Damping
         The damping specification the coefficients come from.
     cw_z : ndarray of int
-        Model DOF of the vertical displacement of each contact-wire node (along-track order).
+        Model DOF of the vertical displacement of each contact-wire node (along-track order). [-]
     cw_height : ndarray
         Static height of each contact-wire node. [m]
     support_z : ndarray of int
         Model DOF of the vertical displacement of the contact wire at each mast (steady-arm or
-        support point).
+        support point). [-]
     droppers : DropperLinearisation
         Dropper data for the tension-only law.
     """

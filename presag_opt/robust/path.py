@@ -49,7 +49,7 @@ class PathModel:
     section : SectionElasticity
         Elasticity curves at force levels, one study per analysed span.
     node_span : ndarray of int
-        Analysed span of each path point (mast nodes appear once per adjacent analysed span).
+        Analysed span of each path point (mast nodes appear once per adjacent analysed span). [-]
     node_position : ndarray
         Position of each path point from its span's first mast. [m]
     base_height : ndarray

@@ -120,7 +120,11 @@ def robust_study(
         System model (its pre-sag is the first reference geometry).
     fm_band : (float, float)
         Mean contact force band. [N]
-    shape, risk, buildability
+    shape : {"parabola", "per-dropper"}
+        See :func:`robust_presag`.
+    risk : Risk, optional
+        See :func:`robust_presag`.
+    buildability : Buildability, optional
         See :func:`robust_presag`.
     within : float
         Tolerance-band loss. [-]

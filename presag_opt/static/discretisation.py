@@ -116,32 +116,32 @@ class Discretisation:
     node_mass : ndarray, shape (n_nodes,)
         Lumped mass per node (wires, clamps, half steady arms, support masses). [kg]
     cw_nodes, mw_nodes : ndarray of int
-        Contact / messenger wire nodes in along-track order.
+        Contact / messenger wire nodes in along-track order. [-]
     cw_station : ndarray
         Along-track distance of each contact-wire node from the first mast. [m]
     mast_station : ndarray, shape (n_spans + 1,)
         Along-track distance of each mast from the first. [m]
     mast_cw_node, mast_mw_node : ndarray of int
-        Contact / messenger wire node at each mast.
+        Contact / messenger wire node at each mast. [-]
     mast_normal : ndarray, shape (n_spans + 1, 3)
-        Horizontal unit vector across the track at each mast (to the left).
+        Horizontal unit vector across the track at each mast (to the left). [-]
     axial : AxialElements
         Wire segments, droppers and steady arms.
     bending : BendingTriples
         Bending triples of the wires.
     dropper_elements : ndarray of int
-        Indices into ``axial`` of the droppers, in along-track order.
+        Indices into ``axial`` of the droppers, in along-track order. [-]
     dropper_span, dropper_position : ndarray
         Span (from 0) and distance from that span's first mast of each dropper. [-], [m]
     arm_elements, arm_pivot_nodes, arm_masts : ndarray of int
-        Steady arms: element index, pivot node, mast index (empty with spring supports).
+        Steady arms: element index, pivot node, mast index (empty with spring supports). [-]
     spring_dofs, spring_stiffness : ndarray
         Ground springs: degree of freedom and stiffness. [-], [N/m]
     spring_masts : ndarray of int
-        Mast of each ground spring.
+        Mast of each ground spring. [-]
     pin_nodes, pin_normals : ndarray
         Messenger-wire pins on curves: node and the horizontal direction they hold (stiffness
-        :data:`PIN_STIFFNESS`).
+        :data:`PIN_STIFFNESS`). [-]
     fixed_dofs : ndarray of bool, shape (3 n_nodes,)
         Degrees of freedom held fixed in equilibrium (supports, anchor, pivots).
     termination_force : ndarray, shape (3 n_nodes,)

@@ -155,7 +155,7 @@ class StudyDefinition:
         Parameters
         ----------
         indices : tuple of int
-            Index into each extra parameter's values, in order.
+            Index into each extra parameter's values, in order. [-]
         """
         roots: dict[str, Any] = {"catenary": self.catenary, "pantograph": self.pantograph, "settings": self.settings}
         for sweep, i in zip(self.parameters, indices, strict=True):
@@ -204,7 +204,7 @@ class StudyVariant:
     Attributes
     ----------
     indices : tuple of int
-        Index into each extra parameter's values.
+        Index into each extra parameter's values. [-]
     catenary : Catenary
         Catenary (pre-sag still the file's; the grid sets it per run).
     pantograph : Pantograph

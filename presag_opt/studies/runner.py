@@ -78,7 +78,7 @@ def run_study(
         Output netCDF file; its units directory is ``<store>.units`` beside it.
     workers : int, optional
         Local worker processes; default: the CPU count (at most the number of pending units).
-        Not with ``scheduler``.
+        Not with ``scheduler``. [-]
     scheduler : str, optional
         Address of a Dask distributed scheduler (e.g. ``tcp://10.0.0.5:8786``) to run the units on.
     progress : bool, optional

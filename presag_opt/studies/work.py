@@ -49,11 +49,11 @@ class WorkUnit:
     Attributes
     ----------
     parameter_indices : tuple of int
-        Index into each extra parameter's values.
+        Index into each extra parameter's values. [-]
     presag_index : int
-        Index into the grid's pre-sags.
+        Index into the grid's pre-sags. [-]
     speed_index : int
-        Index into the grid's speeds.
+        Index into the grid's speeds. [-]
     """
 
     parameter_indices: tuple[int, ...]

@@ -145,6 +145,8 @@ class SteadyArm:
 
     Attributes
     ----------
+    type : {"steady_arm"}
+        The support's kind in a model file.
     length : float
         Pivot-to-clamp length. [m]
     mass : float
@@ -168,6 +170,8 @@ class SpringSupport:
 
     Attributes
     ----------
+    type : {"spring"}
+        The support's kind in a model file.
     stiffness : float
         Vertical spring stiffness. [N/m]
     mass : float
@@ -455,7 +459,7 @@ class Catenary:
         Parameters
         ----------
         span : int
-            Span, from 0.
+            Span, from 0. [-]
         positions : ndarray
             Distances from the span's first mast, within [0, l]. [m]
         """

@@ -348,7 +348,7 @@ class ModelEntry:
     key : str
         Dotted key, e.g. ``contact_wire.tension`` or ``stages.frame.mass``.
     value : float or tuple of float
-        The value as written (in ``unit``, not converted).
+        The value as written (in ``unit``, not converted). [``unit``]
     unit : str
         Unit as written.
     source : str

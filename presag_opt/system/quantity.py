@@ -83,7 +83,7 @@ def quantity(
     dimension : str
         Key of :data:`UNITS` (``"force"``, ``"length"``, ...).
     low, high : float
-        Valid range in the display unit.
+        Valid range in the display unit. [display unit]
     display : str, optional
         Unit used in messages and ranges; defaults to the SI unit of ``dimension``.
     low_open, high_open : bool

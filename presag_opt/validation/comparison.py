@@ -77,7 +77,7 @@ class ComparisonRow:
     unit : str
         Unit of both values (edge units: mm, ‰, mm/N, %).
     ours, paper : float
-        The two values.
+        The two values. [``unit``]
     """
 
     item: str
