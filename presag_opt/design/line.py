@@ -46,7 +46,7 @@ from presag_opt.design.section import (
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import worker_pool
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey, SurveySection, section_catenary
 

@@ -9,7 +9,7 @@ whose accumulators stay in vector registers; it gives the same numbers to the la
 (``tests/dynamics/test_native_sweeps.py``) and takes 2.3 ms for the 12-run step, 1.4 ms for the
 1-run step (``benchmarks/bench_batch.py`` compares whole batches: about 2.2 times faster).
 
-The library is built once per machine by :func:`presag_opt.static.native.build` (``-O3
+The library is built once per machine by :func:`presag_opt.native.build` (``-O3
 -march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
 loaded into the process, and the numba kernel :func:`advance` calls its functions by name; numba
 caches that kernel like the others. Without a compiler, or with ``PRESAG_NO_COMPILE=1``,

@@ -8,7 +8,7 @@ with z_CW the form-found contact-wire height for the pre-sag design d and e the 
 force F (interpolated between computed force levels). Its peak-to-peak value over a span,
 R(d, F) = max_x h − min_x h, is the waviness the pre-sag cancels. The form-found geometry is affine
 in the dropper target heights — the sensitivity comes from the CasADi Jacobian of the form-finding
-equations (:func:`presag_opt.static.equilibrium.dropper_height_sensitivity`; the prediction of a
+equations (:func:`presag_opt.static.form_finding.dropper_height_sensitivity`; the prediction of a
 70 mm geometry from a 30 mm one is exact to 0.2 μm) — so R is convex in d. This module holds the
 path model; the optimisation over d is :mod:`presag_opt.robust.lp`.
 
