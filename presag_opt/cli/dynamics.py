@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,
     add_json_flag,
+    announce_work,
     float_list,
     form_find_for,
     output_path,
@@ -20,6 +21,7 @@ from presag_opt.cli.common import (
 )
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
+from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
@@ -90,23 +92,40 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="save a figure (PNG, PDF or SVG): contact force against position for one run, "
         "σ/F_m against speed for several",
     )
+    p.add_argument(
+        "--allow-supercritical", action="store_true",
+        help="accept speeds at or above 0.7 of the contact-wire wave speed (the EN 50119 limit; refused otherwise)",
+    )
     add_json_flag(p)
     p.set_defaults(handler=simulate_command)
 
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
+    from presag_opt.dynamics.cost import (
+        MIN_AUTO_ELEMENT_LENGTH,
+        check_run_size,
+        estimate_runs,
+    )
+
     case = _case(args)
     if args.plot:
         args.plot = str(output_path(args.plot))
     speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = _settings(args, case.settings)
+    if not args.allow_supercritical:
+        for speed in speeds:
+            check_speed_limit(speed, case.catenary.contact_wire.wave_speed, accept="--allow-supercritical")
     plans = {}
     for speed in speeds:  # every input is checked before the form-finding starts
         for force in forces:
             plans[speed, force] = dataclasses.replace(
                 case, operation=dataclasses.replace(case.operation, static_force=force)).plan(speed, settings)
+    estimate = estimate_runs(case.catenary, list(plans.values()), batch=len(plans) > 1)
+    check_run_size(list(plans.values()), estimate,
+                   fix=f"--element-length {MIN_AUTO_ELEMENT_LENGTH:g} (or longer) with --time-step MS")
+    announce_work(args, estimate)
     # With automatic numerics the element length follows the speed: one form-found state per length.
     lengths = sorted({plan.settings.static.element_length for plan in plans.values()}, reverse=True)
     states = {h: form_find_for(args, case.catenary, dataclasses.replace(settings.static, element_length=h))
