@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ConvergenceError, ModelError, StorageError
 
 if TYPE_CHECKING:  # casadi is imported by the commands that form-find, not by this module
     from presag_opt.static.discretisation import StaticSettings
@@ -104,6 +104,9 @@ def _run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Nam
         # Python would report the failed flush of stdout at exit; point stdout at /dev/null instead
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
+    except StorageError as exc:
+        print(f"presag: error: {exc}", file=sys.stderr)
+        return EXIT_STORAGE
     except OSError as exc:
         print(f"presag: error: {os_error_line(exc)}", file=sys.stderr)
         return EXIT_STORAGE

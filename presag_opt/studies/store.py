@@ -174,8 +174,14 @@ def hold_store(store: Path) -> Iterator[Path]:
                     ) from None
                 lock.unlink(missing_ok=True)  # stale: its holder is gone
                 continue
-            with os.fdopen(handle, "w") as fh:
-                fh.write(me)
+            try:
+                with os.fdopen(handle, "w") as fh:
+                    fh.write(me)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            except BaseException:
+                lock.unlink(missing_ok=True)
+                raise
             break
         else:
             raise ModelError(f"{lock}: cannot take the study lock; another command keeps taking it")
@@ -217,17 +223,19 @@ def storage_errors(path: Path) -> Iterator[None]:
         raise
     except OSError as exc:
         name = exc.filename or path
-        hint = {
-            errno.ENOSPC: "free some space",
-            errno.EDQUOT: "free some space (disk quota)",
-            errno.EACCES: "give write permission or another output path",
-            errno.EPERM: "give write permission or another output path",
-            errno.EROFS: "the file system is read-only; give another output path",
-            errno.EEXIST: "a file is where a folder should be; move it or give another output path",
-            errno.ENOTDIR: "a file is where a folder should be; move it or give another output path",
-        }.get(exc.errno or 0, "fix the cause")
+        reason = exc.strerror or str(exc)
+        if isinstance(exc, (FileExistsError, NotADirectoryError)):
+            reason, hint = "a file is where a folder should be", "move it or give another output path"
+        else:
+            hint = {
+                errno.ENOSPC: "free some space",
+                errno.EDQUOT: "free some space (disk quota)",
+                errno.EACCES: "give write permission or another output path",
+                errno.EPERM: "give write permission or another output path",
+                errno.EROFS: "give a writable output path",
+            }.get(exc.errno or 0, "fix the cause")
         raise StorageError(
-            f"{name}: {exc.strerror or exc}; {hint}, then run the same command again: finished units are kept",
+            f"{name}: {reason}; {hint}, then run the same command again: finished units are kept",
             exc.errno, str(name),
         ) from None
 
@@ -344,38 +352,16 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
 def write_store(dataset: xr.Dataset, store: Path) -> None:
     """Write the dataset atomically as netCDF (h5netcdf engine) at ``store``.
 
+    The file is built in memory and written with :func:`write_atomic`: HDF5 writing into a full disk
+    itself reports the failure only on standard error and can crash the process as it closes the
+    file, so the file system sees one plain write.
+
     Raises
     ------
     StorageError
         The store cannot be written (the temporary is removed; the units stay).
     """
-    with storage_errors(store):
-        handle, temporary = tempfile.mkstemp(dir=store.parent, prefix=store.name + ".", suffix=TEMPORARY_SUFFIX)
-        os.close(handle)
-        try:
-            try:
-                dataset.to_netcdf(temporary, engine=ENGINE)
-            except OSError:
-                raise
-            except Exception as exc:  # h5py reports a full disk as its own error without errno
-                raise OSError(_free_space_errno(store.parent), f"writing the netCDF store failed ({exc})",
-                              str(store)) from exc
-            with open(temporary, "rb+") as fh:
-                os.fsync(fh.fileno())
-            os.replace(temporary, store)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
-        _fsync_directory(store.parent)
-
-
-def _free_space_errno(folder: Path) -> int:
-    """ENOSPC if ``folder``'s file system is (nearly) full, else EIO."""
-    try:
-        stats = os.statvfs(folder)
-        return errno.ENOSPC if stats.f_bavail * stats.f_frsize < 1 << 20 else errno.EIO
-    except (OSError, AttributeError):
-        return errno.EIO
+    write_atomic(store, bytes(dataset.to_netcdf(engine=ENGINE)))
 
 
 def open_store(store: str | Path) -> xr.Dataset:
