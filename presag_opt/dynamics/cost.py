@@ -147,7 +147,7 @@ def check_run_size(plans: Sequence[RunPlan], estimate: WorkEstimate, *, fix: str
     if available and estimate.memory > available:
         raise ModelError(
             f"the runs need about {estimate.memory / 1e9:.0f} GB of memory, more than this machine's "
-            f"{available / 1e9:.0f} GB ({estimate.describe()}); give {fix} with longer elements or time steps, "
+            f"{available / 1e9:.0f} GB ({estimate.describe()}); give longer elements or time steps ({fix}), "
             "or fewer runs"
         )
 

@@ -29,6 +29,7 @@ import errno
 import json
 import os
 import socket
+import sys
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -361,7 +362,23 @@ def write_store(dataset: xr.Dataset, store: Path) -> None:
     StorageError
         The store cannot be written (the temporary is removed; the units stay).
     """
-    write_atomic(store, bytes(dataset.to_netcdf(engine=ENGINE)))
+    with _no_distributed_lock():
+        content = bytes(dataset.to_netcdf(engine=ENGINE))
+    write_atomic(store, content)
+
+
+@contextmanager
+def _no_distributed_lock() -> Iterator[None]:
+    """Keep xarray from taking a Dask distributed lock for the in-memory write: with a Dask client
+    active in the process it would ask the scheduler for a lock named after the memory buffer, which
+    the scheduler does not know. The dataset is in memory; nothing is computed by Dask."""
+    if "dask" not in sys.modules:
+        yield
+        return
+    import dask
+
+    with dask.config.set(scheduler="synchronous"):
+        yield
 
 
 def open_store(store: str | Path) -> xr.Dataset:
