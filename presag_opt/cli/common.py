@@ -168,8 +168,10 @@ def progress_enabled(args: argparse.Namespace) -> bool:
 class Progress:
     """The progress display of long work: a tqdm bar on standard error.
 
-    Call it with a short message before each step (the signature of the API's ``progress``
-    callbacks); it shows the message, the steps done (of ``total`` if known) and the elapsed time.
+    Call it with a short message before each step (the one protocol of the API's ``progress``
+    callbacks: ``Callable[[str], None]``); it shows the message, the steps done of ``total`` if
+    known (else the message alone, which carries its own count) and the elapsed time. It is the only
+    place that draws progress: the library only calls back.
     Shown only after :data:`PROGRESS_DELAY` and only when :func:`progress_enabled`; use it as a
     context manager so that the bar is closed. Standard output is untouched (JSON stays pure).
 
@@ -188,7 +190,7 @@ class Progress:
 
         self._bar = tqdm(total=total, file=sys.stderr, disable=not enabled, delay=delay, leave=False,
                          dynamic_ncols=True, unit="step",
-                         bar_format="{desc}: {n_fmt}" + ("/{total_fmt}" if total else "") + " steps [{elapsed}]")
+                         bar_format="{desc}: {n_fmt}/{total_fmt} steps [{elapsed}]" if total else "{desc} [{elapsed}]")
         self._shown_after = time.monotonic() + delay
         self._started = False
 
@@ -389,11 +391,16 @@ def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: Static
     """
     from presag_opt.static.equilibrium import form_find, form_find_estimate
 
-    n_nodes, seconds = form_find_estimate(catenary, settings)
+    announce_form_finding(args, *form_find_estimate(catenary, settings))
+    return form_find(catenary, settings)
+
+
+def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float) -> None:
+    """Say beforehand that a form-finding of ``n_nodes`` nodes [-] will take ``seconds`` [s], if that
+    is above :data:`LONG_FORM_FINDING` (unless ``--quiet``)."""
     if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
         print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
               "(Ctrl-C stops it)", file=sys.stderr, flush=True)
-    return form_find(catenary, settings)
 
 
 def _duration(seconds: float) -> str:

@@ -142,14 +142,8 @@ def simulate_band(
         raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
                                f"{str(exc).splitlines()[0]}", exc.stats) from None
     points = grid.points()
-    done = [0]
-
-    def finished(count: int) -> None:
-        done[0] += count
-        if progress:
-            progress(f"{label}: {done[0]}/{len(points)} runs")
-
-    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True, progress=finished)
+    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True,
+                          progress=(lambda message: progress(f"{label}: {message}")) if progress else None)
     histories, loss = [], []
     for run in batch.runs:
         if not run.ok:
