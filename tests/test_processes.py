@@ -119,3 +119,26 @@ def test_workers_exit_within_seconds_of_a_sigkill_of_their_command(command, tmp_
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def test_the_policy_alone_chooses_the_start_method(monkeypatch):
+    import multiprocessing
+
+    from presag_opt.errors import ModelError
+    from presag_opt.processes import WorkerPolicy, pool_available, start_method
+
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["fork", "spawn", "forkserver"])
+    assert [start_method(p) for p in WorkerPolicy] == ["spawn", "fork", "fork"]
+    assert pool_available(WorkerPolicy.INHERITED)
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])  # as on Windows
+    assert start_method(WorkerPolicy.PICKLED) == start_method(WorkerPolicy.FAST_START) == "spawn"
+    assert not pool_available(WorkerPolicy.INHERITED)
+    with pytest.raises(ModelError, match="needs worker processes started with fork"):
+        start_method(WorkerPolicy.INHERITED)
+
+
+def test_no_call_site_outside_processes_chooses_a_start_method():
+    package = Path(__file__).resolve().parents[1] / "presag_opt"
+    offenders = [str(path.relative_to(package)) for path in package.rglob("*.py") if path.name != "processes.py"
+                 and any(word in path.read_text() for word in ("get_context(", "get_all_start_methods", "mp_context"))]
+    assert offenders == []

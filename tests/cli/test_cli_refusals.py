@@ -31,20 +31,20 @@ MODELS = Path(__file__).resolve().parents[1] / "studies" / "models"
 REFUSALS = {
     "speed at beta >= 0.7": (
         ["simulate", "--case", "case_study_st98", "--speed", "330"], 2,
-        r"speed = 330 km/h is β = 0\.96 of the contact-wire wave speed 345 km/h, at or above the EN 50119 limit "
-        r"β < 0\.7 \(speeds below 241 km/h\); give --allow-supercritical to run it anyway"),
+        (r"speed = 330 km/h is β = 0\.96 of the contact-wire wave speed 345 km/h, at or above the EN 50119 limit "
+        r"β < 0\.7 \(speeds below 241 km/h\); give --allow-supercritical to run it anyway")),
     "one speed of a list at beta >= 0.7": (
         ["simulate", "--case", "case_study_st98", "--speed", "160,250"], 2,
         r"speed = 250 km/h is β = 0\.73 .*give --allow-supercritical"),
     "accepted, but automatic elements below 0.05 m": (
         ["simulate", "--case", "case_study_st98", "--speed", "330", "--allow-supercritical"], 2,
-        r"speed = 330 km/h \(β = 0\.96\): automatic numerics need elements of 0\.02 m, below the limit 0\.05 m "
-        r"\(1 run on 60 013 nodes: about .* and .* GB of memory on a 2-core machine\); give --element-length 0\.05 "
-        r"\(or longer\) with --time-step MS to fix coarser numerics"),
+        (r"speed = 330 km/h \(β = 0\.96\): automatic numerics need elements of 0\.02 m, below the limit 0\.05 m "
+         r"\(1 run on 60 013 nodes: about .* and .* GB of memory on a 2-core machine\); give --element-length 0\.05 "
+         r"\(or longer\) with --time-step MS to fix coarser numerics")),
     "fixed numerics needing more memory than the machine": (
         ["simulate", "--case", "case_study_st98", "--speed", "200", "--element-length", "0.01", "--time-step", "0.1"],
-        2, r"the runs need about \d+ GB of memory, more than this machine's \d+ GB \(1 run on 120 013 nodes: .*\); give "
-           r"longer elements or time steps \(--element-length 0\.05 \(or longer\) with --time-step MS\), or fewer runs"),
+        2, (r"the runs need about \d+ GB of memory, more than this machine's \d+ GB \(1 run on 120 013 nodes: .*\); give "
+           r"longer elements or time steps \(--element-length 0\.05 \(or longer\) with --time-step MS\), or fewer runs")),
     "speed above the wave speed (no option accepts it)": (
         ["simulate", "--case", "case_study_st98", "--speed", "400", "--allow-supercritical"], 2,
         r"speed = 400 km/h is outside the valid range \[0, 344\.\d+\) km/h"),
@@ -59,12 +59,12 @@ REFUSALS = {
         r"{tmp}: is a folder; give a file name such as {tmp}/study\.nc"),
     "sweep where a file holds the units folder's name": (
         ["sweep", str(MODELS / "small_grid.toml"), "--out", "{tmp}/blocked.nc"], 4,
-        r"{tmp}/blocked\.nc\.units: a file is where a folder should be; move it or give another output path, then "
-        r"run the same command again: finished units are kept"),
+        (r"{tmp}/blocked\.nc\.units: a file is where a folder should be; move it or give another output path, then "
+        r"run the same command again: finished units are kept")),
     "sweep on a store another command holds": (
         ["sweep", str(MODELS / "small_grid.toml"), "--out", "{tmp}/held.nc"], 2,
-        r"{tmp}/held\.nc: another presag sweep \(pid {pid}\) is running this study; wait for it to finish \(or stop "
-        r"it\) and run again — finished units are kept \(lock {tmp}/held\.nc\.units/lock\)"),
+        (r"{tmp}/held\.nc: another presag sweep \(pid {pid}\) is running this study; wait for it to finish \(or stop "
+        r"it\) and run again — finished units are kept \(lock {tmp}/held\.nc\.units/lock\)")),
 }
 """Case -> (arguments, exit status, the one line after ``presag: error: `` as a regular expression)."""
 
@@ -136,7 +136,7 @@ def test_long_work_is_announced_before_it_starts(args, tmp_path):
         line = process.stderr.readline()
         seconds = time.monotonic() - started
         process.send_signal(signal.SIGTERM)
-        out, err = process.communicate(timeout=60)
+        _, err = process.communicate(timeout=60)
     finally:
         process.kill()
     assert re.fullmatch(r"presag: \d+ runs? on [\d ,]+ nodes: about \d+(\.\d)? (min|h) and \d+\.\d GB of memory on "

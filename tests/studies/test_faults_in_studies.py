@@ -116,7 +116,7 @@ def test_two_sweeps_on_one_store_one_refuses_and_neither_corrupts_it(reference, 
             assert first.poll() is None and time.monotonic() < deadline, "the first sweep took no lock"
             time.sleep(0.02)
         second = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
-        out_first, err_first = first.communicate(timeout=300)
+        _, err_first = first.communicate(timeout=300)
     finally:
         first.kill()
     assert second.returncode == 2
