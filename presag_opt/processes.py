@@ -25,6 +25,7 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
@@ -126,8 +127,11 @@ def _start_worker(parent: int) -> None:
 
     Ctrl-C reaches the whole process group; the parent stops the pool, so a worker ignores SIGINT
     (no traceback of an interrupted task) and takes SIGTERM's default action (a forked worker would
-    otherwise inherit the command line's handler).
+    otherwise inherit the command line's handler). A worker shows no Python warnings: they would
+    reach the terminal raw, once per worker, beside the parent's; the parent raises the same input
+    warnings when it checks the work, and results carry their own.
     """
+    warnings.simplefilter("ignore")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if sys.platform.startswith("linux"):

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 
 from presag_opt.cli.common import (
     add_json_flag,
     announce_work,
     print_json,
+    print_warnings,
     progress,
     table,
 )
@@ -69,10 +71,13 @@ def sweep_command(args: argparse.Namespace) -> int:
         run_study,
     )
 
-    definition = load_study(args.study)
+    with warnings.catch_warnings(record=True) as caught:  # shown only if the study is not refused
+        warnings.simplefilter("always")
+        definition = load_study(args.study)
     store = Path(args.out)
     check_study_path(store)
     check_study_speeds(definition, args.allow_supercritical)
+    print_warnings(str(w.message) for w in caught)
     if args.scheduler is None:
         announce_work(args, estimate_study(definition, store, workers=args.workers))
     with progress(args, total=None) as report:

@@ -165,3 +165,14 @@ def test_a_raw_os_error_is_one_line(capsys):
     assert common.run(handler, argparse.Namespace(no_cache=True)) == common.EXIT_STORAGE
     assert capsys.readouterr().err == ("presag: error: /somewhere/file.png: Permission denied "
                                        "(check the permissions)\n")
+
+
+def test_an_accepted_supercritical_sweep_warns_once_even_from_its_workers(folder):
+    """The study's β warning is raised in the parent and again in each worker as it plans its runs:
+    the user sees it once, as one line (workers show no warnings of their own)."""
+    result = _run(["sweep", str(folder / "fast_grid.toml"), "--out", str(folder / "fast.nc"), "--workers", "2",
+                   "--allow-supercritical"], folder)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr.splitlines() == [
+        "presag: warning: speed ratio β = 0.75 exceeds 0.7 (EN 50119): wave reflections and the Doppler effect "
+        "dominate the interaction"]
