@@ -127,7 +127,7 @@ def grid(workers: int) -> float:
     study = load_study("paper_grid_st98")
     with tempfile.TemporaryDirectory(prefix=f"bench_batch_{workers}w_") as folder:
         started = time.perf_counter()
-        result = run_study(study, Path(folder) / "grid.nc", workers=workers, progress=False)
+        result = run_study(study, Path(folder) / "grid.nc", workers=workers)
         wall = time.perf_counter() - started
     print(f"400-run grid, {workers} worker(s): {wall:.1f} s wall, {study.run_count / wall * 60:.0f} runs/min, "
           f"{result.runs_failed} failed", flush=True)

@@ -29,3 +29,16 @@ class ConvergenceError(PresagError, RuntimeError):
     def __init__(self, message: str, stats: dict[str, Any] | None = None):
         super().__init__(message)
         self.stats = dict(stats or {})
+
+
+class StorageError(PresagError, OSError):
+    """A file could not be written or read (no space left, no permission, a read-only folder, a file
+    where a folder should be). The message is one line naming the path, the cause and what to do;
+    ``errno`` and ``filename`` are those of the failed operation."""
+
+    def __init__(self, message: str, errno: int | None = None, filename: str | None = None):
+        super().__init__(errno, message, filename)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message

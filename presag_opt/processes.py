@@ -2,34 +2,108 @@
 
 Every parallel part of the toolkit (the layouts of a recommendation, the force levels of an
 elasticity study, the pre-sags of a dynamic design, the units of a parametric study) runs its
-tasks in a :class:`concurrent.futures.ProcessPoolExecutor` opened by :func:`worker_pool`. When the
-work ends normally the pool is closed and waited for. When it ends by an error, Ctrl-C or SIGTERM
-(the command line turns SIGTERM into the same interrupt as Ctrl-C), the queued tasks are dropped and
-the worker processes are killed at once, so that none keeps computing after its parent has
-given up. What a parametric study has stored stays stored (see :mod:`presag_opt.studies.store`).
+tasks in a :class:`concurrent.futures.ProcessPoolExecutor` opened by :func:`worker_pool`. The call
+site says what its work needs (a :class:`WorkerPolicy`); this module alone decides how the workers
+start (:func:`start_method`).
+
+When the work ends normally the pool is closed and waited for. When it ends by an error, Ctrl-C or
+SIGTERM (the command line turns SIGTERM into the same interrupt as Ctrl-C), the queued tasks are
+dropped and the worker processes are killed at once, so that none keeps computing after its parent
+has given up. When the parent itself is killed (SIGKILL, out of memory), each worker exits within
+:data:`PARENT_POLL` seconds: on Linux the kernel kills it with the parent (``PR_SET_PDEATHSIG``),
+and everywhere a thread in the worker ends it once it has been re-parented. What a parametric study
+has stored stays stored (see :mod:`presag_opt.studies.store`).
 """
 
 from __future__ import annotations
 
+import ctypes
+import enum
 import multiprocessing
+import os
+import signal
+import sys
+import threading
+import time
+import warnings
 from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 
+from presag_opt.errors import ModelError
+
+PARENT_POLL = 1.0
+"""Seconds between a worker's checks that its parent still runs. [s]"""
+
+_PR_SET_PDEATHSIG = 1
+"""``prctl`` option: the signal a process receives when its parent dies (Linux)."""
+
+
+class WorkerPolicy(enum.Enum):
+    """What the work of a pool needs from its worker processes.
+
+    PICKLED
+        Tasks and their arguments are pickled, and the parent may run threads (the command line's
+        progress display, a Dask client): the workers are spawned (a fork of a process with threads
+        can deadlock on a lock one of them held).
+    FAST_START
+        Tasks are pickled and short enough that re-importing the package in each worker would
+        dominate: forked where the platform has ``fork``, else spawned.
+    INHERITED
+        Tasks use state of the parent that cannot be pickled (compiled CasADi functions, held in a
+        module global before the pool opens): forked; only where :func:`pool_available` says so.
+    """
+
+    PICKLED = "pickled"
+    FAST_START = "fast-start"
+    INHERITED = "inherited"
+
+
+_LEGACY = {"spawn": WorkerPolicy.PICKLED, "fork": WorkerPolicy.INHERITED}
+"""Start-method names call sites passed before policies existed, read as the policy they meant."""
+
+
+def pool_available(policy: WorkerPolicy) -> bool:
+    """Whether this platform can open a pool of the given policy (``INHERITED`` needs ``fork``)."""
+    return policy is not WorkerPolicy.INHERITED or "fork" in multiprocessing.get_all_start_methods()
+
+
+def start_method(policy: WorkerPolicy) -> str:
+    """The start method of a pool of the given policy on this platform: ``"spawn"`` or ``"fork"``.
+
+    Raises
+    ------
+    ModelError
+        ``INHERITED`` on a platform without ``fork``.
+    """
+    forking = "fork" in multiprocessing.get_all_start_methods()
+    if policy is WorkerPolicy.INHERITED:
+        if not forking:
+            raise ModelError("this work needs worker processes started with fork, which this platform lacks; "
+                             "run it with one worker")
+        return "fork"
+    if policy is WorkerPolicy.FAST_START and forking:
+        return "fork"
+    return "spawn"
+
 
 @contextmanager
-def worker_pool(workers: int, start_method: str = "spawn") -> Iterator[ProcessPoolExecutor]:
+def worker_pool(workers: int, policy: WorkerPolicy | str = WorkerPolicy.PICKLED) -> Iterator[ProcessPoolExecutor]:
     """A process pool that is stopped, workers and all, if the ``with`` block does not finish.
 
     Parameters
     ----------
     workers : int
         Worker processes. [-]
-    start_method : {"spawn", "fork", "forkserver"}
-        How the workers start ("spawn" where the parent runs threads, such as the command line's
-        progress display; "fork" only where the platform has it).
+    policy : WorkerPolicy
+        What the work needs (see :class:`WorkerPolicy`); the start method follows from it.
+        The names ``"spawn"`` and ``"fork"`` are read as ``PICKLED`` and ``INHERITED``.
     """
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method))
+    policy = _LEGACY.get(policy, policy) if isinstance(policy, str) else policy
+    if not isinstance(policy, WorkerPolicy):
+        raise ModelError(f"policy = {policy!r} is not one of {', '.join(p.name for p in WorkerPolicy)}")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method(policy)),
+                               initializer=_start_worker, initargs=(os.getpid(),))
     try:
         yield pool
     except BaseException:
@@ -42,8 +116,37 @@ def stop(pool: ProcessPoolExecutor) -> None:
     """Drop the pool's queued tasks and kill its worker processes without waiting for them."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     pool.shutdown(wait=False, cancel_futures=True)
-    # SIGKILL, not SIGTERM: a forked worker inherits the command line's SIGTERM handler, which would
-    # turn the signal into an exception inside its task instead of ending it.
+    # SIGKILL, not SIGTERM: it cannot be caught, so a task cannot turn it into an exception
     for process in processes:
         if process.is_alive():
             process.kill()
+
+
+def _start_worker(parent: int) -> None:
+    """Initializer of every worker: die with the parent, leave interrupts to the parent.
+
+    Ctrl-C reaches the whole process group; the parent stops the pool, so a worker ignores SIGINT
+    (no traceback of an interrupted task) and takes SIGTERM's default action (a forked worker would
+    otherwise inherit the command line's handler). A worker shows no Python warnings: they would
+    reach the terminal raw, once per worker, beside the parent's; the parent raises the same input
+    warnings when it checks the work, and results carry their own.
+    """
+    warnings.simplefilter("ignore")
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError):
+            pass  # no prctl: the watch thread below still ends the worker
+    if os.getppid() != parent:  # the parent died before the signal was armed
+        os._exit(1)
+    threading.Thread(target=_watch_parent, args=(parent,), name="presag-parent-watch", daemon=True).start()
+
+
+def _watch_parent(parent: int) -> None:
+    """End this worker at once when it has been re-parented (its parent is gone)."""
+    while True:
+        time.sleep(PARENT_POLL)
+        if os.getppid() != parent:
+            os._exit(1)

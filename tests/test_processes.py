@@ -82,3 +82,63 @@ def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
             os.killpg(process.pid, signal.SIGKILL)
         except ProcessLookupError:
             pass
+
+
+ROBUST_MODEL = Path(__file__).parent / "robust" / "models" / "st_9.8_six_short_spans.toml"
+
+POOL_COMMANDS = {
+    "sweep": ["sweep", str(SMALL_STUDY), "--out", "{tmp}/s.nc", "--workers", "2"],
+    "recommend": ["recommend", "--models", "st_9.8_ideal,st_9.8_mixed"],
+    "elasticity": ["elasticity", "st_9.8_ideal", "--forces", "50,100,150,200"],
+    "robust --dynamic": ["robust", str(ROBUST_MODEL), "--dynamic", "--grid-points", "2,2", "--workers", "2"],
+}
+"""Every command with a worker pool, with arguments that open one within seconds."""
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
+@pytest.mark.parametrize("command", list(POOL_COMMANDS))
+def test_workers_exit_within_seconds_of_a_sigkill_of_their_command(command, tmp_path):
+    """SIGKILL cannot be caught, so the command cannot stop its pool: each worker must notice alone
+    (PR_SET_PDEATHSIG on Linux, else its parent-watch thread within PARENT_POLL = 1 s)."""
+    args = [a.format(tmp=tmp_path) for a in POOL_COMMANDS[command]]
+    process = subprocess.Popen([str(SCRIPT), *args, "--quiet"], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, start_new_session=True)
+    workers: list[int] = []
+    try:
+        assert _wait_until(lambda: len(_children(process.pid)) >= 2, 120), "the workers did not start"
+        time.sleep(2.0)  # the workers are past their start and inside a task
+        workers = _children(process.pid)
+        assert len(workers) >= 2
+        process.kill()
+        process.wait(timeout=30)
+        assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 5.0), (
+            f"{command}: {sum(_alive(pid) for pid in workers)} of {len(workers)} workers outlived a SIGKILL by 5 s")
+    finally:
+        for pid in [process.pid, *workers]:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+
+
+def test_the_policy_alone_chooses_the_start_method(monkeypatch):
+    import multiprocessing
+
+    from presag_opt.errors import ModelError
+    from presag_opt.processes import WorkerPolicy, pool_available, start_method
+
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["fork", "spawn", "forkserver"])
+    assert [start_method(p) for p in WorkerPolicy] == ["spawn", "fork", "fork"]
+    assert pool_available(WorkerPolicy.INHERITED)
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])  # as on Windows
+    assert start_method(WorkerPolicy.PICKLED) == start_method(WorkerPolicy.FAST_START) == "spawn"
+    assert not pool_available(WorkerPolicy.INHERITED)
+    with pytest.raises(ModelError, match="needs worker processes started with fork"):
+        start_method(WorkerPolicy.INHERITED)
+
+
+def test_no_call_site_outside_processes_chooses_a_start_method():
+    package = Path(__file__).resolve().parents[1] / "presag_opt"
+    offenders = [str(path.relative_to(package)) for path in package.rglob("*.py") if path.name != "processes.py"
+                 and any(word in path.read_text() for word in ("get_context(", "get_all_start_methods", "mp_context"))]
+    assert offenders == []

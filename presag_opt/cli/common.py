@@ -11,7 +11,9 @@ Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMA
   output folder (``presag report --out``);
 - :func:`form_find_for` form-finds, saying beforehand when it will take long;
 - :func:`model_help` is the help line of a model argument, listing the built-in models;
-- :func:`print_warnings` prints the one-line warnings of a result.
+- :func:`print_warnings` prints the one-line warnings of a result; every warning the package raises
+  while a command runs is shown the same way, once, and :func:`print_json` lists them all under
+  ``warnings``.
 """
 
 from __future__ import annotations
@@ -23,13 +25,15 @@ import os
 import sys
 import tempfile
 import time
+import traceback
+import warnings
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ConvergenceError, ModelError, StorageError
 
 if TYPE_CHECKING:  # casadi is imported by the commands that form-find, not by this module
     from presag_opt.static.discretisation import StaticSettings
@@ -40,8 +44,15 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 EXIT_INTERRUPTED = 130
 """128 + SIGINT, as a shell reports a program stopped by Ctrl-C."""
+EXIT_STORAGE = 4
+"""A file could not be written or read: no space left, no permission, a read-only folder."""
+EXIT_INTERNAL = 70
+"""An error the package did not expect (EX_SOFTWARE): one line, the traceback with PRESAG_DEBUG=1."""
 EXIT_BROKEN_PIPE = 141
 """128 + SIGPIPE, as a shell reports a program whose reader went away (``presag … | head``)."""
+
+_SHOWN_WARNINGS: dict[str, None] = {}
+"""The warnings shown so far by the running command, in order (each once)."""
 
 PROGRESS_DELAY = 2.0
 """Seconds of work before a progress display appears (shorter work shows none). [s]"""
@@ -60,11 +71,25 @@ command-line grammar:
 def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
     """Run a sub-command handler, turning expected errors into a one-line message and exit code.
 
-    Sets up the form-finding cache first (see :func:`add_run_options`). A closed standard output
-    (the reader of a pipe went away) ends the program quietly with :data:`EXIT_BROKEN_PIPE`.
+    Sets up the form-finding cache first (see :func:`add_run_options`). Every warning raised while
+    the handler runs is printed once as ``presag: warning: …`` (see :func:`print_warnings`). A closed
+    standard output (the reader of a pipe went away) ends the program quietly with
+    :data:`EXIT_BROKEN_PIPE`; a file that cannot be written (:class:`OSError`) ends it with one line
+    and :data:`EXIT_STORAGE`; any other error with one line and :data:`EXIT_INTERNAL` (the traceback
+    only with ``PRESAG_DEBUG=1``).
     """
-    _configure_cache(args)
+    _SHOWN_WARNINGS.clear()
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        for category in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+            warnings.simplefilter("ignore", category)
+        warnings.showwarning = _show_warning
+        return _run(handler, args)
+
+
+def _run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
     try:
+        _configure_cache(args)
         return handler(args) or 0
     except ModelError as exc:
         print(f"presag: error: {exc}", file=sys.stderr)
@@ -79,6 +104,34 @@ def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Name
         # Python would report the failed flush of stdout at exit; point stdout at /dev/null instead
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_BROKEN_PIPE
+    except StorageError as exc:
+        print(f"presag: error: {exc}", file=sys.stderr)
+        return EXIT_STORAGE
+    except OSError as exc:
+        print(f"presag: error: {os_error_line(exc)}", file=sys.stderr)
+        return EXIT_STORAGE
+    except (Exception, MemoryError) as exc:  # noqa: BLE001 - the last line of defence: never a raw traceback
+        if os.environ.get("PRESAG_DEBUG"):
+            traceback.print_exc()
+        where = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
+        at = f" in {Path(where.filename).name}:{where.lineno}" if where else ""
+        print(f"presag: internal error: {type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}{at} "
+              "(please report it; PRESAG_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def os_error_line(exc: OSError) -> str:
+    """One line for a failed file operation: the file, what went wrong, and what to do."""
+    name = f"{exc.filename}: " if exc.filename else ""
+    reason = exc.strerror or str(exc)
+    hint = {28: "free some space", 13: "check the permissions", 30: "the file system is read-only",
+            122: "free some space (disk quota)"}.get(exc.errno or 0)
+    return f"{name}{reason}" + (f" ({hint})" if hint else "")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """``warnings.showwarning`` of a running command: one line, each distinct message once."""
+    print_warnings([str(message)])
 
 
 def add_run_options(parser: argparse.ArgumentParser) -> None:
@@ -115,8 +168,10 @@ def progress_enabled(args: argparse.Namespace) -> bool:
 class Progress:
     """The progress display of long work: a tqdm bar on standard error.
 
-    Call it with a short message before each step (the signature of the API's ``progress``
-    callbacks); it shows the message, the steps done (of ``total`` if known) and the elapsed time.
+    Call it with a short message before each step (the one protocol of the API's ``progress``
+    callbacks: ``Callable[[str], None]``); it shows the message, the steps done of ``total`` if
+    known (else the message alone, which carries its own count) and the elapsed time. It is the only
+    place that draws progress: the library only calls back.
     Shown only after :data:`PROGRESS_DELAY` and only when :func:`progress_enabled`; use it as a
     context manager so that the bar is closed. Standard output is untouched (JSON stays pure).
 
@@ -135,7 +190,7 @@ class Progress:
 
         self._bar = tqdm(total=total, file=sys.stderr, disable=not enabled, delay=delay, leave=False,
                          dynamic_ncols=True, unit="step",
-                         bar_format="{desc}: {n_fmt}" + ("/{total_fmt}" if total else "") + " steps [{elapsed}]")
+                         bar_format="{desc}: {n_fmt}/{total_fmt} steps [{elapsed}]" if total else "{desc} [{elapsed}]")
         self._shown_after = time.monotonic() + delay
         self._started = False
 
@@ -165,7 +220,14 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
 
 
 def print_json(obj: Any) -> None:
-    """Print an object as JSON (numpy arrays and scalars converted; NaN/inf become null)."""
+    """Print an object as JSON (numpy arrays and scalars converted; NaN/inf become null).
+
+    A dict gets the key ``warnings``: its own warnings followed by every other warning the command
+    has shown (:func:`shown_warnings`), each once.
+    """
+    if isinstance(obj, dict):
+        own = [" ".join(str(w).split()) for w in obj.get("warnings", [])]
+        obj = {**obj, "warnings": list(dict.fromkeys([*own, *shown_warnings()]))}
     print(json.dumps(_plain(obj), indent=2, allow_nan=False))
 
 
@@ -297,6 +359,23 @@ def output_folder(text: str, option: str = "--out") -> Path:
 LONG_FORM_FINDING = 10.0
 """Expected form-finding time above which a command says how long it will take. [s]"""
 
+LONG_WORK = 120.0
+"""Expected time of a batch or a study above which a command says beforehand what it will cost. [s]"""
+
+
+def announce_work(args: argparse.Namespace, estimate: Any) -> None:
+    """Say what long work will cost (time and memory) before it starts, unless ``--quiet``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's options (``--quiet``).
+    estimate : object
+        With ``seconds`` [s] and ``describe()``, e.g. a :class:`~presag_opt.dynamics.cost.WorkEstimate`.
+    """
+    if estimate.seconds > LONG_WORK and not getattr(args, "quiet", False):
+        print(f"presag: {estimate.describe()} (Ctrl-C stops it)", file=sys.stderr, flush=True)
+
 
 def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
     """Form-find for a command: say beforehand when it will take long (unless ``--quiet``).
@@ -313,11 +392,16 @@ def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: Static
     from presag_opt.static.form_finding import form_find
     from presag_opt.static.run_time import form_find_estimate
 
-    n_nodes, seconds = form_find_estimate(catenary, settings)
+    announce_form_finding(args, *form_find_estimate(catenary, settings))
+    return form_find(catenary, settings)
+
+
+def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float) -> None:
+    """Say beforehand that a form-finding of ``n_nodes`` nodes [-] will take ``seconds`` [s], if that
+    is above :data:`LONG_FORM_FINDING` (unless ``--quiet``)."""
     if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
         print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
               "(Ctrl-C stops it)", file=sys.stderr, flush=True)
-    return form_find(catenary, settings)
 
 
 def _duration(seconds: float) -> str:
@@ -341,6 +425,15 @@ def model_help(kind: str, default: str | None = None) -> str:
 
 
 def print_warnings(messages: Iterable[str]) -> None:
-    """Print each distinct warning as one line on standard error."""
-    for message in dict.fromkeys(messages):
-        print(f"presag: warning: {message}", file=sys.stderr)
+    """Print each warning as one line ``presag: warning: …`` on standard error, once per command
+    (a message already shown, raised or printed, is not repeated); :func:`print_json` lists them."""
+    for message in messages:
+        text = " ".join(str(message).split())
+        if text and text not in _SHOWN_WARNINGS:
+            _SHOWN_WARNINGS[text] = None
+            print(f"presag: warning: {text}", file=sys.stderr, flush=True)
+
+
+def shown_warnings() -> list[str]:
+    """The warnings the running command has shown so far, in order."""
+    return list(_SHOWN_WARNINGS)

@@ -9,8 +9,9 @@ from typing import TYPE_CHECKING
 from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,
     add_json_flag,
+    announce_form_finding,
+    announce_work,
     float_list,
-    form_find_for,
     output_path,
     positive_float,
     print_json,
@@ -20,6 +21,7 @@ from presag_opt.cli.common import (
 )
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
+from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import builtin_model_names, load_catenary
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
@@ -90,27 +92,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="save a figure (PNG, PDF or SVG): contact force against position for one run, "
         "σ/F_m against speed for several",
     )
+    p.add_argument(
+        "--allow-supercritical", action="store_true",
+        help="accept speeds at or above 0.7 of the contact-wire wave speed (the EN 50119 limit; refused otherwise)",
+    )
     add_json_flag(p)
     p.set_defaults(handler=simulate_command)
 
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
+    from presag_opt.dynamics.case_grid import form_find_states, plan_grid
+    from presag_opt.dynamics.cost import (
+        MIN_AUTO_ELEMENT_LENGTH,
+        check_run_size,
+        estimate_runs,
+    )
+    from presag_opt.static.equilibrium import form_find_estimate
+
     case = _case(args)
     if args.plot:
         args.plot = str(output_path(args.plot))
     speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = _settings(args, case.settings)
-    plans = {}
-    for speed in speeds:  # every input is checked before the form-finding starts
-        for force in forces:
-            plans[speed, force] = dataclasses.replace(
-                case, operation=dataclasses.replace(case.operation, static_force=force)).plan(speed, settings)
-    # With automatic numerics the element length follows the speed: one form-found state per length.
-    lengths = sorted({plan.settings.static.element_length for plan in plans.values()}, reverse=True)
-    states = {h: form_find_for(args, case.catenary, dataclasses.replace(settings.static, element_length=h))
-              for h in lengths}
+    if not args.allow_supercritical:
+        for speed in speeds:
+            check_speed_limit(speed, case.catenary.contact_wire.wave_speed, accept="--allow-supercritical")
+    plans = plan_grid(case, speeds, forces, settings)  # every input is checked before the form-finding starts
+    estimate = estimate_runs(case.catenary, list(plans.values()), batch=len(plans) > 1)
+    check_run_size(list(plans.values()), estimate,
+                   fix=f"--element-length {MIN_AUTO_ELEMENT_LENGTH:g} (or longer) with --time-step MS")
+    announce_work(args, estimate)
+    for static in {p.settings.static.element_length: p.settings.static for p in plans.values()}.values():
+        announce_form_finding(args, *form_find_estimate(case.catenary, static))
+    with progress(args) as bar:
+        states = form_find_states(case.catenary, plans, progress=bar)
     if len(plans) == 1:
         (speed, force), plan = next(iter(plans.items()))
         single = dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force))
@@ -175,28 +192,11 @@ def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, st
 
 
 def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: dict, settings) -> int:
-    from presag_opt.dynamics.batch import BatchResult, simulate_many
-    from presag_opt.dynamics.settings import OperatingPoint
+    from presag_opt.dynamics.case_grid import simulate_grid
 
-    aero = case.operation.aero_coefficient
-    order = list(plans)
-    outcomes, wall = {}, 0.0
-    with progress(args, total=len(order)) as bar:
-        bar(f"simulating {len(order)} runs")
-
-        def finished(count: int) -> None:
-            for _ in range(count):
-                bar(f"simulating {len(order)} runs")
-
-        for length, state in states.items():
-            keys = [k for k in order if plans[k].settings.static.element_length == length]
-            points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=aero) for v, f in keys]
-            part = simulate_many(state, case.pantograph, points, spacings=case.operation.spacings, settings=settings,
-                                 progress=finished)
-            outcomes.update(zip(keys, part.runs))
-            wall += part.wall_time
-    batch = BatchResult(catenary_name=part.catenary_name, pantograph_names=part.pantograph_names,
-                        runs=tuple(outcomes[k] for k in order), wall_time=wall, settings=settings)
+    with progress(args) as bar:
+        bar(f"simulating {len(plans)} runs")
+        batch = simulate_grid(case, plans, states, settings, progress=bar)
     print_warnings(line for run in batch.runs for line in run.warnings)
     if args.plot:
         from presag_opt.plotting import plot_batch_statistics

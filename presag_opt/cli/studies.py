@@ -3,8 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import warnings
 
-from presag_opt.cli.common import add_json_flag, print_json, progress_enabled, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    announce_work,
+    print_json,
+    print_warnings,
+    progress,
+    table,
+)
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import builtin_model_names
 
@@ -30,6 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="local worker processes (default: the CPU count; not with --scheduler)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run on instead (e.g. tcp://host:8786)")
+    p.add_argument("--allow-supercritical", action="store_true",
+                   help="accept speeds at or above 0.7 of the contact-wire wave speed (the EN 50119 limit)")
     p.set_defaults(handler=sweep_command)
 
     p = subparsers.add_parser(
@@ -54,11 +64,25 @@ def sweep_command(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from presag_opt.studies.definition import load_study
-    from presag_opt.studies.runner import run_study
+    from presag_opt.studies.runner import (
+        check_study_path,
+        check_study_speeds,
+        estimate_study,
+        run_study,
+    )
 
-    show = progress_enabled(args)
-    definition = load_study(args.study)
-    outcome = run_study(definition, Path(args.out), workers=args.workers, scheduler=args.scheduler, progress=show)
+    with warnings.catch_warnings(record=True) as caught:  # shown only if the study is not refused
+        warnings.simplefilter("always")
+        definition = load_study(args.study)
+    store = Path(args.out)
+    check_study_path(store)
+    check_study_speeds(definition, args.allow_supercritical)
+    print_warnings(str(w.message) for w in caught)
+    if args.scheduler is None:
+        announce_work(args, estimate_study(definition, store, workers=args.workers))
+    with progress(args, total=None) as report:
+        outcome = run_study(definition, store, workers=args.workers, scheduler=args.scheduler, progress=report,
+                            allow_supercritical=args.allow_supercritical)
     print(f"{definition.name}: {outcome.runs_total} runs ({outcome.units_computed} of {outcome.units_total} units "
           f"computed now, the rest resumed), {outcome.runs_failed} failed; store {outcome.store}")
     return 0
@@ -84,7 +108,7 @@ def validity_command(args: argparse.Namespace) -> int:
     print("beta* = " + ("not reached" if limit is None else f"{limit:.3f} ± {summary['beta_limit_uncertainty']:.3f}"))
     print(f"criterion: {summary['criterion']}")
     fit = summary["fit"]
-    print("fit S_dyn = S_stat + k*beta^a: " + ("not enough interior optima" if fit is None else
+    print("fit S_dyn = S_stat + k*beta^a: " + (f"no fit ({summary['no_fit_reason']})" if fit is None else
                                                f"k = {fit['k_mm']:.1f} mm, a = {fit['a']:.2f}, r² = {fit['r2']:.3f}"))
     uplift = summary["uplift"]
     if uplift is not None:

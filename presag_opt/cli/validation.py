@@ -6,9 +6,20 @@ import argparse
 import dataclasses
 import sys
 
-from presag_opt.cli.common import add_json_flag, float_list, form_find_for, positive_float, print_json, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    announce_form_finding,
+    float_list,
+    positive_float,
+    print_json,
+    table,
+)
 from presag_opt.errors import ModelError
-from presag_opt.validation.en50318 import EN50318_RANGES, en50318_ranges, en50318_verdicts
+from presag_opt.validation.en50318 import (
+    EN50318_RANGES,
+    en50318_ranges,
+    en50318_verdicts,
+)
 
 REFERENCE_CASE = "en50318_2002"
 """Built-in case file of the EN 50318-style reference model."""
@@ -44,7 +55,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def en50318_command(args: argparse.Namespace) -> int:
     """Handler of ``presag en50318``: one run per speed, a verdict per statistic."""
-    from presag_opt.dynamics.case import load_case  # the simulator is imported only when this runs
+    from presag_opt.dynamics.case import (
+        load_case,  # the simulator is imported only when this runs
+    )
+    from presag_opt.dynamics.case_grid import form_find_states
+    from presag_opt.static.equilibrium import form_find_estimate
 
     case = load_case(REFERENCE_CASE)
     settings = case.settings
@@ -57,11 +72,9 @@ def en50318_command(args: argparse.Namespace) -> int:
     for speed in args.speed:  # every input is checked before the form-finding starts
         en50318_ranges(speed)
         plans[speed] = case.plan(speed / 3.6, settings)
-    states = {}
-    for plan in plans.values():
-        length = plan.settings.static.element_length
-        if length not in states:
-            states[length] = form_find_for(args, case.catenary, plan.settings.static)
+    for static in {p.settings.static.element_length: p.settings.static for p in plans.values()}.values():
+        announce_form_finding(args, *form_find_estimate(case.catenary, static))
+    states = form_find_states(case.catenary, {(speed, 0.0): plan for speed, plan in plans.items()})
     runs = []
     for speed in args.speed:
         if not args.json:

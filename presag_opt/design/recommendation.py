@@ -15,7 +15,6 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016:
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import warnings
 from collections.abc import Callable, Sequence
@@ -50,7 +49,7 @@ from presag_opt.design.section import (
 )
 from presag_opt.design.validity import SpeedContext, StaticSteadyArmUplift, speed_context
 from presag_opt.errors import ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.loader import load_catenary
@@ -380,8 +379,7 @@ def recommend(
         if progress:
             for c in geometries:
                 progress(f"{c.name}: form-finding and elasticity (in parallel)")
-        start = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-        with worker_pool(workers, start) as pool:
+        with worker_pool(workers, WorkerPolicy.FAST_START) as pool:
             futures = [pool.submit(_layout_job, *job) for job in jobs]
             for done, _ in enumerate(as_completed(futures), start=1):
                 if progress:

@@ -197,7 +197,7 @@ def simulate_many(
     spacings: Sequence[float] | None = None,
     settings: SimulationSettings | None = None,
     keep_histories: bool = False,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> BatchResult:
     """Run many operating points on one form-found catenary.
 
@@ -217,7 +217,7 @@ def simulate_many(
     keep_histories : bool
         Keep each run's record times and raw contact forces.
     progress : callable, optional
-        Called with the number of runs just finished.
+        Called with a short message (``"32/96 runs"``) as each group of runs finishes.
 
     Returns
     -------
@@ -254,7 +254,7 @@ def simulate_many(
             for b, i in enumerate(members):
                 outcomes[i] = _outcome(state, points[i], plans[i], b, records, keep_histories, share)
             if progress is not None:
-                progress(len(members))
+                progress(f"{sum(o is not None for o in outcomes)}/{len(points)} runs")
     return BatchResult(
         catenary_name=route(state)[0],
         pantograph_names=tuple(p.name for p in plans[0].pantographs),

@@ -8,14 +8,13 @@ serial run would reuse, so the curves are the same to the last bit).
 
 from __future__ import annotations
 
-import multiprocessing
 from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 
 from presag_opt.elasticity.curves import ElasticityCurve, ElasticityStudy
 from presag_opt.elasticity.methods import linear_elasticity, nonlinear_elasticity
 from presag_opt.errors import ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, pool_available, worker_pool
 from presag_opt.static.equilibrium import EquilibriumState
 
 DEFAULT_FORCES = (50.0, 100.0, 150.0, 200.0)
@@ -67,7 +66,7 @@ def elasticity_study(
     if not forces and not linear:
         raise ModelError("forces is empty and linear is off: nothing to compute")
     levels = sorted(forces)
-    if workers > 1 and len(levels) > 1 and "fork" in multiprocessing.get_all_start_methods():
+    if workers > 1 and len(levels) > 1 and pool_available(WorkerPolicy.INHERITED):
         curves = _parallel_curves(state, levels, span, step, method, workers, progress)
     else:
         curves = []
@@ -96,7 +95,7 @@ def _parallel_curves(state, levels, span, step, method, workers, progress) -> li
     """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time."""
     _FORKED_STATE[:] = [state]
     try:
-        with worker_pool(min(workers, len(levels)), "fork") as pool:
+        with worker_pool(min(workers, len(levels)), WorkerPolicy.INHERITED) as pool:
             futures = [pool.submit(_forked_curve, force, span, step, method) for force in levels]
             for done, _ in enumerate(as_completed(futures), start=1):
                 if progress:

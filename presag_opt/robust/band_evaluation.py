@@ -24,7 +24,7 @@ from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.statistics import lowpass_filter, window_mask
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
@@ -142,14 +142,8 @@ def simulate_band(
         raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
                                f"{str(exc).splitlines()[0]}", exc.stats) from None
     points = grid.points()
-    done = [0]
-
-    def finished(count: int) -> None:
-        done[0] += count
-        if progress:
-            progress(f"{label}: {done[0]}/{len(points)} runs")
-
-    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True, progress=finished)
+    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True,
+                          progress=(lambda message: progress(f"{label}: {message}")) if progress else None)
     histories, loss = [], []
     for run in batch.runs:
         if not run.ok:
@@ -264,8 +258,7 @@ class BandEvaluator:
             count = min(self.workers, len(new))
             if self.progress:
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
-            # spawn, not fork: the command line's progress display runs a thread
-            with worker_pool(count, "spawn") as pool:
+            with worker_pool(count, WorkerPolicy.PICKLED) as pool:
                 futures = [pool.submit(simulate_band, *common, s) for s in new]
                 results = [f.result() for f in futures]
             for s, evaluation in zip(new, results):

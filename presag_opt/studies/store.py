@@ -12,13 +12,27 @@ only after every unit is finished. It is assembled from the unit files by their 
 order they finished, and holds no timing data: the same definition gives the same dataset whatever
 the worker count or scheduler. A store or units directory made by a different definition is refused
 before anything is written.
+
+One study runs on one store at a time: :func:`hold_store` takes the lock file ``PATH.units/lock``
+(holding the pid and host of its holder) before anything in the units directory is touched, and a
+second command on the same store is refused with the holder's pid; a lock left by a killed command
+(its pid no longer running on this host) is taken over. A file that cannot be written (no space
+left, no permission, a read-only folder, a file where a folder should be) raises
+:class:`~presag_opt.errors.StorageError` with one line naming the path and what to do; the
+temporary is removed, so the units directory holds only complete files and the study resumes when
+the cause is fixed.
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import os
+import socket
+import sys
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -26,13 +40,14 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from presag_opt.errors import ModelError
+from presag_opt.errors import ModelError, StorageError
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.work import UnitResult, WorkUnit
 
 ENGINE = "h5netcdf"
 MANIFEST = "study.json"
 TEMPORARY_SUFFIX = ".partial"
+LOCK = "lock"
 
 VARIABLES = {
     "F_m": ("mean_force", "N", "mean contact force (front pantograph)"),
@@ -103,19 +118,127 @@ def prepare_units(store: Path, definition: StudyDefinition) -> Path:
     """Create the units directory and its manifest if missing; remove stray temporary files.
 
     Temporaries are left only by a study killed while writing: those of units in the units
-    directory, and those of the store beside it.
+    directory, and those of the store beside it. Call after :func:`check_store`, inside
+    :func:`hold_store` (another command's temporaries are not strays). Returns the units directory.
 
-    Call after :func:`check_store`. Returns the units directory.
+    Raises
+    ------
+    StorageError
+        The directory or the manifest cannot be written.
     """
     folder = units_directory(store)
-    folder.mkdir(parents=True, exist_ok=True)
-    for stray in [*folder.glob(f"*{TEMPORARY_SUFFIX}"), *store.parent.glob(f"{store.name}.*{TEMPORARY_SUFFIX}")]:
-        stray.unlink()
+    with storage_errors(folder):
+        folder.mkdir(parents=True, exist_ok=True)
+        for stray in [*folder.glob(f"*{TEMPORARY_SUFFIX}"), *store.parent.glob(f"{store.name}.*{TEMPORARY_SUFFIX}")]:
+            stray.unlink()
     manifest = folder / MANIFEST
     if not manifest.exists():
         content = {"study_hash": definition.digest(), "study_definition": definition.to_dict()}
         write_atomic(manifest, json.dumps(content, sort_keys=True).encode())
     return folder
+
+
+@contextmanager
+def hold_store(store: Path) -> Iterator[Path]:
+    """Hold the lock of a store's units directory for the ``with`` block (created if missing).
+
+    The lock file ``PATH.units/lock`` is created exclusively and holds ``pid@host`` of its holder;
+    it is removed at the end of the block. A lock whose holder no longer runs on this host is stale
+    and taken over.
+
+    Parameters
+    ----------
+    store : pathlib.Path
+        The netCDF store.
+
+    Raises
+    ------
+    ModelError
+        Another command holds the lock (one line with its pid and the lock's path).
+    StorageError
+        The units directory or the lock cannot be written.
+    """
+    folder = units_directory(store)
+    lock = folder / LOCK
+    me = f"{os.getpid()}@{socket.gethostname()}"
+    with storage_errors(folder):
+        folder.mkdir(parents=True, exist_ok=True)
+        for _ in range(3):
+            try:
+                handle = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                holder = _lock_holder(lock)
+                if holder is not None:
+                    raise ModelError(
+                        f"{store}: another presag sweep (pid {holder}) is running this study; wait for it to "
+                        f"finish (or stop it) and run again — finished units are kept (lock {lock})"
+                    ) from None
+                lock.unlink(missing_ok=True)  # stale: its holder is gone
+                continue
+            try:
+                with os.fdopen(handle, "w") as fh:
+                    fh.write(me)
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            except BaseException:
+                lock.unlink(missing_ok=True)
+                raise
+            break
+        else:
+            raise ModelError(f"{lock}: cannot take the study lock; another command keeps taking it")
+    try:
+        yield folder
+    finally:
+        try:
+            if lock.read_text() == me:
+                lock.unlink()
+        except OSError:
+            pass
+
+
+def _lock_holder(lock: Path) -> str | None:
+    """The holder ``pid`` (or ``pid@host``) of a lock, or None if the lock is stale."""
+    try:
+        pid_text, _, host = lock.read_text().strip().partition("@")
+        pid = int(pid_text)
+    except (OSError, ValueError):
+        return None  # unreadable or half-written: left by a command killed while taking it
+    if host and host != socket.gethostname():
+        return f"{pid} on {host}"  # cannot be checked from here: assume it runs
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return None
+    except PermissionError:
+        pass  # runs, as another user
+    return str(pid)
+
+
+@contextmanager
+def storage_errors(path: Path) -> Iterator[None]:
+    """Turn a failed file operation under ``path`` into one :class:`~presag_opt.errors.StorageError`
+    line naming the file, the cause and what to do (the study resumes once it is fixed)."""
+    try:
+        yield
+    except StorageError:
+        raise
+    except OSError as exc:
+        name = exc.filename or path
+        reason = exc.strerror or str(exc)
+        if isinstance(exc, (FileExistsError, NotADirectoryError)):
+            reason, hint = "a file is where a folder should be", "move it or give another output path"
+        else:
+            hint = {
+                errno.ENOSPC: "free some space",
+                errno.EDQUOT: "free some space (disk quota)",
+                errno.EACCES: "give write permission or another output path",
+                errno.EPERM: "give write permission or another output path",
+                errno.EROFS: "give a writable output path",
+            }.get(exc.errno or 0, "fix the cause")
+        raise StorageError(
+            f"{name}: {reason}; {hint}, then run the same command again: finished units are kept",
+            exc.errno, str(name),
+        ) from None
 
 
 def finished_units(folder: Path) -> set[str]:
@@ -142,18 +265,24 @@ def write_atomic(path: Path, content: bytes) -> None:
         Final file name.
     content : bytes
         The file content.
+
+    Raises
+    ------
+    StorageError
+        The file cannot be written (the temporary is removed).
     """
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=TEMPORARY_SUFFIX)
-    try:
-        with os.fdopen(handle, "wb") as fh:
-            fh.write(content)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    _fsync_directory(path.parent)
+    with storage_errors(path):
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=TEMPORARY_SUFFIX)
+        try:
+            with os.fdopen(handle, "wb") as fh:
+                fh.write(content)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(temporary, path)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+        _fsync_directory(path.parent)
 
 
 def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Dataset:
@@ -222,18 +351,34 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
 
 
 def write_store(dataset: xr.Dataset, store: Path) -> None:
-    """Write the dataset atomically as netCDF (h5netcdf engine) at ``store``."""
-    handle, temporary = tempfile.mkstemp(dir=store.parent, prefix=store.name + ".", suffix=TEMPORARY_SUFFIX)
-    os.close(handle)
-    try:
-        dataset.to_netcdf(temporary, engine=ENGINE)
-        with open(temporary, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(temporary, store)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    _fsync_directory(store.parent)
+    """Write the dataset atomically as netCDF (h5netcdf engine) at ``store``.
+
+    The file is built in memory and written with :func:`write_atomic`: HDF5 writing into a full disk
+    itself reports the failure only on standard error and can crash the process as it closes the
+    file, so the file system sees one plain write.
+
+    Raises
+    ------
+    StorageError
+        The store cannot be written (the temporary is removed; the units stay).
+    """
+    with _no_distributed_lock():
+        content = bytes(dataset.to_netcdf(engine=ENGINE))
+    write_atomic(store, content)
+
+
+@contextmanager
+def _no_distributed_lock() -> Iterator[None]:
+    """Keep xarray from taking a Dask distributed lock for the in-memory write: with a Dask client
+    active in the process it would ask the scheduler for a lock named after the memory buffer, which
+    the scheduler does not know. The dataset is in memory; nothing is computed by Dask."""
+    if "dask" not in sys.modules:
+        yield
+        return
+    import dask
+
+    with dask.config.set(scheduler="synchronous"):
+        yield
 
 
 def open_store(store: str | Path) -> xr.Dataset:

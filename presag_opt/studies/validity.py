@@ -34,6 +34,9 @@ paper's figures as numbers (Schick, Liu, Stichel 2025, doi:10.1108/RS-05-2025-00
   that hardly depends on S); the ``criterion`` string says which case applies.
 - **Fit** – S_dyn = S_stat + k·β^a (paper eq. 7) by least squares through every interior optimal
   S at a β with benefit, with S_stat the Δe rule; r² is that of the correction S_dyn − S_stat.
+  Optima that cannot support the law give *no fit* with the reason: fewer than three at two β, an
+  optimum that does not move from the rule, an exponent on its bound, or r² below
+  :data:`FIT_MIN_R2`.
 - **Uplift** – the largest steady-arm uplift of the grid against the study's limit.
 """
 
@@ -57,6 +60,17 @@ NEAR_OPTIMAL_MARGIN = 0.05
 
 HOLD_SHARE = 0.5
 """Share of static forces (exceeded) at which the pre-sag must have a benefit and the rule lie in the band. [-]"""
+
+FIT_MIN_R2 = 0.8
+"""Smallest r² of the eq. 7 correction reported as a fit: below it k·β^a explains less than 80 % of
+the spread of S_opt − S_Δe, and k and a describe the noise of the optima, not a law. [-]"""
+
+FIT_EXPONENT_BOUNDS = (0.05, 20.0)
+"""Range of the fitted exponent a; a fit whose a ends on either bound is no fit. [-]"""
+
+FIT_MIN_SHIFT = 1e-4
+"""Largest |S_opt − S_Δe| below which the optimum has not moved and there is nothing to fit
+(0.1 mm, below any pre-sag grid's resolution). [m]"""
 
 DENSE_POINTS = 2001
 """Points at which splines are evaluated to find minima and band edges. [-]"""
@@ -231,13 +245,16 @@ class ValidityResult:
     criterion : str
         How β* was read, in words, including whether σ/F_m had distinct minima.
     fit : PowerFit or None
-        Fit of eq. 7, None with fewer than three interior optima at two β.
+        Fit of eq. 7; None when the optima cannot support one (:attr:`no_fit_reason` says why).
     per_beta : tuple of BetaVerdict
         Fig. 7 per β, increasing.
     force_optima : tuple of ForceOptimum
         Fig. 6/8 per S and β.
     uplift : UpliftCheck or None
         None if no run finished.
+    no_fit_reason : str
+        Why there is no fit (empty with a fit): too few optima, no correction to fit, an exponent at
+        its bound, or r² below :data:`FIT_MIN_R2`.
     """
 
     beta_limit: float | None
@@ -247,6 +264,7 @@ class ValidityResult:
     per_beta: tuple[BetaVerdict, ...]
     force_optima: tuple[ForceOptimum, ...]
     uplift: UpliftCheck | None
+    no_fit_reason: str = ""
 
     def to_dict(self) -> dict:
         """JSON-ready summary; pre-sag in mm, speed in km/h (the units are in the key names)."""
@@ -269,6 +287,7 @@ class ValidityResult:
             "beta_limit_uncertainty": self.beta_limit_uncertainty,
             "criterion": self.criterion,
             "fit": None if self.fit is None else {**asdict(self.fit), "k_mm": self.fit.k * mm},
+            "no_fit_reason": self.no_fit_reason,
             "per_beta": [{"beta": v.beta, "speed_kmh": v.speed * 3.6, "holds": v.holds,
                           "bands": [band(b) for b in v.bands]} for v in self.per_beta],
             "force_optima": [{"presag_mm": o.presag * mm, "beta": o.beta, "speed_kmh": o.speed * 3.6,
@@ -280,7 +299,8 @@ class ValidityResult:
                 "speed_kmh": self.uplift.speed * 3.6, "static_force_N": self.uplift.static_force,
             },
             "settings": {"distinct_rise": DISTINCT_RISE, "near_optimal_margin": NEAR_OPTIMAL_MARGIN,
-                         "hold_share": HOLD_SHARE},
+                         "hold_share": HOLD_SHARE, "fit_min_r2": FIT_MIN_R2,
+                         "fit_exponent_bounds": list(FIT_EXPONENT_BOUNDS)},
         }
 
 
@@ -332,9 +352,10 @@ def validity_analysis(dataset: xr.Dataset, selection: dict[str, float] | None = 
                  f"{NEAR_OPTIMAL_MARGIN:.0%} over S) at more than {HOLD_SHARE:.0%} of the static forces and the "
                  f"rule lies within the near-optimal S band (sigma within {NEAR_OPTIMAL_MARGIN:.0%} of its minimum) "
                  f"at more than {HOLD_SHARE:.0%} of those; {ratio_text}")
+    fit, no_fit_reason = _fit(verdicts)
     return ValidityResult(
-        beta_limit=limit, beta_limit_uncertainty=uncertainty, criterion=criterion, fit=_fit(verdicts),
-        per_beta=tuple(verdicts), force_optima=optima, uplift=_uplift(ds),
+        beta_limit=limit, beta_limit_uncertainty=uncertainty, criterion=criterion, fit=fit,
+        per_beta=tuple(verdicts), force_optima=optima, uplift=_uplift(ds), no_fit_reason=no_fit_reason,
     )
 
 
@@ -457,26 +478,38 @@ def _failure_cause(verdict: BetaVerdict) -> str:
     return "the Delta-e rule left the near-optimal band"
 
 
-def _fit(verdicts: list[BetaVerdict]) -> PowerFit | None:
-    """Least-squares fit of S_opt − S_Δe = k·β^a (paper eq. 7)."""
+def _fit(verdicts: list[BetaVerdict]) -> tuple[PowerFit | None, str]:
+    """Least-squares fit of S_opt − S_Δe = k·β^a (paper eq. 7), or None and why the optima cannot
+    support one (see :data:`FIT_MIN_R2`, :data:`FIT_EXPONENT_BOUNDS`, :data:`FIT_MIN_SHIFT`)."""
     points = [(v.beta, b.optimal - b.presag_delta_e) for v in verdicts if v.beta > 0.0 for b in v.bands
               if b.benefit and b.optimal is not None and math.isfinite(b.presag_delta_e)]
     if len(points) < 3 or len({p[0] for p in points}) < 2:
-        return None
+        return None, (f"{len(points)} interior optima at {len({p[0] for p in points})} speed ratios; the fit needs "
+                      "at least three at two")
     beta, shift = np.array(points).T
+    if float(np.max(np.abs(shift))) <= FIT_MIN_SHIFT:
+        return None, (f"the optimum does not move from the Delta-e rule (|S_opt - S_Delta-e| <= {FIT_MIN_SHIFT * 1e3:g} mm "
+                      "at every point): no dynamic correction to fit")
 
     def model(b, k, a):
         return k * b**a
 
+    low, high = FIT_EXPONENT_BOUNDS
     try:
         (k, a), _ = curve_fit(model, beta, shift, p0=(float(np.mean(shift)) or 1e-3, 1.0),
-                              bounds=([-np.inf, 0.05], [np.inf, 20.0]), maxfev=20000)
+                              bounds=([-np.inf, low], [np.inf, high]), maxfev=20000)
     except (RuntimeError, ValueError):
-        return None
+        return None, "the least-squares fit of k*beta^a did not converge"
     residual = float(np.sum((shift - model(beta, k, a)) ** 2))
     total = float(np.sum((shift - shift.mean()) ** 2))
     r2 = 1.0 - residual / total if total > 0.0 else math.nan
-    return PowerFit(k=float(k), a=float(a), r2=r2, points=len(points))
+    if min(a - low, high - a) <= 1e-3 * (high - low):  # the solver stops just short of an active bound
+        return None, (f"the exponent ran to its bound a = {a:.3g} (bounds {low:g}-{high:g}; r² {r2:.2f}, "
+                      f"{len(points)} optima): the optima do not follow k*beta^a")
+    if not r2 >= FIT_MIN_R2:
+        return None, (f"r² = {r2:.2f} is below {FIT_MIN_R2:g} (k = {k * 1e3:.1f} mm, a = {a:.2f}, {len(points)} optima): "
+                      "the optima do not follow k*beta^a")
+    return PowerFit(k=float(k), a=float(a), r2=r2, points=len(points)), ""
 
 
 def _uplift(ds: xr.Dataset) -> UpliftCheck | None:

@@ -193,7 +193,9 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
     -------
     list of UnitResult
         One per unit, in order: statistics per static force; a run (or every run, if the catenary
-        cannot be form-found) that fails is NaN with its reason.
+        cannot be form-found or the batch raises, e.g. ``MemoryError``) that fails is NaN with its
+        reason. Such a unit is stored as failed: remove its file from the units directory to run it
+        again.
     """
     grid = definition.grid
     first = units[0]
@@ -206,15 +208,21 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
     nan = (math.nan,) * n
     speeds = [grid.speeds[u.speed_index] for u in units]
     bases = [{"unit": u, "speed_ratio": speed_ratio(v, catenary.contact_wire.wave_speed)} for u, v in zip(units, speeds)]
-    try:
-        state, section = _form_found(definition, catenary, variant.settings)
-    except (ConvergenceError, ModelError) as exc:
-        reason = f"form-finding: {str(exc).splitlines()[0]}"
+
+    def failed(reason: str) -> list[UnitResult]:
         return [UnitResult(**base, **{name: nan for name in (*STATISTICS, "uplift_max", *RULE_METHODS)},
                            failure=(reason,) * n, rule_failure=reason) for base in bases]
+
+    try:
+        state, section = _form_found(definition, catenary, variant.settings)
+    except Exception as exc:  # noqa: BLE001 - recorded as the reason: one unit must not stop a study
+        return failed(f"form-finding: {failure_reason(exc)}")
     points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=grid.aero_coefficient)
               for v in speeds for f in grid.static_forces]
-    batch = simulate_many(state, variant.pantograph, points, settings=variant.settings)
+    try:
+        batch = simulate_many(state, variant.pantograph, points, settings=variant.settings)
+    except Exception as exc:  # noqa: BLE001 - e.g. MemoryError: recorded, the study goes on
+        return failed(f"simulation: {failure_reason(exc)}")
     results = []
     for i, (base, speed) in enumerate(zip(bases, speeds)):
         runs = batch.runs[i * n : (i + 1) * n]
@@ -228,6 +236,17 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
             rule_failure=rule_failure,
         ))
     return results
+
+
+def failure_reason(exc: BaseException) -> str:
+    """One line saying why a unit failed: the message of an expected error, else the error's type
+    and message (``MemoryError: out of memory`` for one without a message)."""
+    first = str(exc).splitlines()[0] if str(exc) else ""
+    if isinstance(exc, (ConvergenceError, ModelError)):
+        return first
+    if isinstance(exc, MemoryError):
+        return f"MemoryError: {first or 'out of memory'}"
+    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
 
 
 def _rules(definition: StudyDefinition, section: SectionElasticity | str, catenary: Catenary,

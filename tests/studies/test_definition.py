@@ -91,7 +91,7 @@ def test_store_of_another_definition_is_refused_and_untouched(small_study_path, 
     store = _foreign_store(tmp_path)
     before = store.read_bytes()
     with pytest.raises(ModelError, match=r"written by a different study definition \(hash 0123456789ab"):
-        run_study(load_study(small_study_path), store, workers=1, progress=False)
+        run_study(load_study(small_study_path), store, workers=1, progress=None)
     proc = _sweep(small_study_path, store)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1
     assert "written by a different study definition" in proc.stderr
@@ -104,7 +104,7 @@ def test_units_of_another_definition_are_refused(small_study_path, tmp_path):
     units.mkdir()
     (units / "study.json").write_text('{"study_hash": "feedfacefeedface"}')
     with pytest.raises(ModelError, match="units of a different study definition"):
-        run_study(load_study(small_study_path), store, workers=1, progress=False)
+        run_study(load_study(small_study_path), store, workers=1, progress=None)
     assert sorted(p.name for p in units.iterdir()) == ["study.json"]
 
 

@@ -31,7 +31,7 @@ def small_study(small_study_path):
 def reference_store(small_study, tmp_path_factory) -> Path:
     """The test study run once, uninterrupted, with two local workers."""
     store = tmp_path_factory.mktemp("reference") / "study.nc"
-    outcome = run_study(small_study, store, workers=2, progress=False)
+    outcome = run_study(small_study, store, workers=2, progress=None)
     assert outcome.units_computed == outcome.units_total == 4
     return store
 
@@ -70,7 +70,7 @@ def test_rerun_skips_finished_units_and_rewrites_the_same_store(small_study, ref
     copy.mkdir()
     for f in units.iterdir():
         (copy / f.name).write_bytes(f.read_bytes())
-    outcome = run_study(small_study, store, workers=1, progress=False)
+    outcome = run_study(small_study, store, workers=1, progress=None)
     assert outcome.units_computed == 0
     assert_same_store(store, reference_store)
 
@@ -83,7 +83,7 @@ def test_sigkill_then_resume_with_another_worker_count_gives_the_uninterrupted_s
         "from presag_opt.studies.definition import load_study\n"
         "from presag_opt.studies.runner import run_study\n"
         "if __name__ == '__main__':\n"
-        "    run_study(load_study(sys.argv[1]), sys.argv[2], workers=1, progress=False)\n"
+        "    run_study(load_study(sys.argv[1]), sys.argv[2], workers=1, progress=None)\n"
     )
     # A session of its own, so that the orphaned pool worker can be ended by its group after the kill.
     proc = subprocess.Popen([sys.executable, "-c", script, str(small_study_path), str(store)],
@@ -107,7 +107,7 @@ def test_sigkill_then_resume_with_another_worker_count_gives_the_uninterrupted_s
     assert not store.exists()
     # Resumed with one worker: the reference ran with two, so this also shows the worker count does
     # not change a bit.
-    outcome = run_study(small_study, store, workers=1, progress=False)
+    outcome = run_study(small_study, store, workers=1, progress=None)
     assert outcome.units_computed == 4 - len(stored)
     assert_same_store(store, reference_store)
 
@@ -117,7 +117,7 @@ def test_dask_local_cluster_gives_the_same_store(small_study, reference_store, t
     store = tmp_path / "dask.nc"
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
-        run_study(small_study, store, scheduler=cluster.scheduler_address, progress=False)
+        run_study(small_study, store, scheduler=cluster.scheduler_address, progress=None)
     assert_same_store(store, reference_store)
 
 
@@ -128,7 +128,7 @@ def test_paper_grid_runs_and_is_analysed(tmp_path):
     from presag_opt.studies.validity import validity_analysis
 
     store = tmp_path / "paper.nc"
-    outcome = run_study(load_study("paper_grid_st98"), store, workers=2, progress=False)
+    outcome = run_study(load_study("paper_grid_st98"), store, workers=2, progress=None)
     assert outcome.runs_total == 400 and outcome.runs_failed == 0
     result = validity_analysis(open_store(store))
     assert len(result.per_beta) == 10 and result.criterion

@@ -111,7 +111,8 @@ def test_vanishing_benefit_sets_the_limit(make_dataset):
     result = validity_analysis(ds)
     assert result.beta_limit == pytest.approx(0.375, abs=1e-9)
     assert "benefit on sigma vanished" in result.criterion
-    assert result.fit is not None and abs(result.fit.k) < 1e-4  # optimum does not move with β
+    # The optimum does not move with β: nothing to fit, and said so (not k = 0 with a meaningless a).
+    assert result.fit is None and "does not move" in result.no_fit_reason
 
 
 def test_rule_never_in_band_gives_no_limit_and_no_crash(make_dataset):
@@ -156,3 +157,48 @@ def test_cli_json_and_plots(parabola, tmp_path):
     assert set(entry["bands"][0]) >= {"presag_delta_e_mm", "presag_optimal_mm", "band_mm", "F_m_N"}
     assert sorted(p.name for p in (tmp_path / "plots").iterdir()) == [
         "fig6_ratio.png", "fig7_presag.png", "fig8_optimal_force.png", "uplift.png"]
+
+
+def _shifted(shift):
+    """σ as :func:`relative_parabola` (10 mm band) around S_rule + shift(β) [m]."""
+    curvature = NEAR_OPTIMAL_MARGIN / 0.010**2
+
+    def sigma(s, beta, static_force, mean_force):
+        best = rule_mm(mean_force) * 1e-3 + shift(beta)
+        return (5.0 + 0.002 * (mean_force - 100.0) ** 2) * (1.0 + curvature * (s - best) ** 2)
+
+    return sigma
+
+
+def test_an_exponent_on_its_bound_is_no_fit(make_dataset):
+    # The optimum stays on the rule up to β = 0.55 and jumps by 15 mm at 0.6: the steepest power the
+    # bounds allow (a = 20) is the least-squares answer, which describes a step, not eq. 7.
+    ds = make_dataset(sigma=_shifted(lambda b: 0.015 if b > 0.58 else 0.0), presags_mm=PRESAGS_MM, betas=BETAS,
+                      static_forces=FORCES, rule_mm=rule_mm)
+    result = validity_analysis(ds)
+    assert result.fit is None
+    assert "ran to its bound a = 20" in result.no_fit_reason
+    summary = result.to_dict()
+    assert summary["fit"] is None and summary["no_fit_reason"] == result.no_fit_reason
+
+
+def test_scattered_optima_below_the_r2_threshold_are_no_fit(make_dataset):
+    # Optima alternating 4 mm above and below a 6 mm mean: no power of β explains the spread.
+    betas = BETAS
+    ds = make_dataset(sigma=_shifted(lambda b: 0.006 + (0.004 if round(b * 20) % 2 else -0.004)),
+                      presags_mm=PRESAGS_MM, betas=betas, static_forces=FORCES, rule_mm=rule_mm)
+    result = validity_analysis(ds)
+    assert result.fit is None
+    assert "below 0.8" in result.no_fit_reason or "ran to its bound" in result.no_fit_reason
+
+
+def test_cli_prints_no_fit_with_its_reason(make_dataset, tmp_path):
+    ds = make_dataset(sigma=_shifted(lambda b: 0.015 if b > 0.58 else 0.0), presags_mm=PRESAGS_MM, betas=BETAS,
+                      static_forces=FORCES, rule_mm=rule_mm)
+    store = tmp_path / "step.nc"
+    write_store(ds, store)
+    out = subprocess.run([str(PRESAG), "validity", str(store)], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    line = next(x for x in out.stdout.splitlines() if x.startswith("fit "))
+    assert line.startswith("fit S_dyn = S_stat + k*beta^a: no fit (the exponent ran to its bound a = 20")
+    assert "k =" not in line

@@ -67,7 +67,7 @@ def test_bad_arguments(tmp_path, args, words):
     assert words in result.stderr.strip().splitlines()[-1], result.stderr
 
 
-SHORT_SPANS = Path(__file__).parent / "robust" / "models" / "st_9.8_six_short_spans.toml"
+SHORT_SPANS = Path(__file__).parents[1] / "robust" / "models" / "st_9.8_six_short_spans.toml"
 
 
 @pytest.mark.slow
@@ -99,7 +99,7 @@ def test_robust_dynamic_json_table_and_plot(tmp_path):
     assert "Recommendation: build the" in table.stdout and "Installation tolerance" in table.stdout
 
 
-SHORT_MODEL = Path(__file__).parent / "studies" / "models" / "st_9.8_short.toml"
+SHORT_MODEL = Path(__file__).parents[1] / "studies" / "models" / "st_9.8_short.toml"
 
 
 def test_robust_per_dropper_with_a_dynamic_check(tmp_path):

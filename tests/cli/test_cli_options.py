@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 SCRIPT = Path(sys.executable).parent / "presag"
-SHORT_MODEL = Path(__file__).parent / "studies" / "models" / "st_9.8_short.toml"
+SHORT_MODEL = Path(__file__).parents[1] / "studies" / "models" / "st_9.8_short.toml"
 
 
 def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:

@@ -19,7 +19,7 @@ import pytest
 from presag_opt.errors import ModelError
 
 SCRIPT = Path(sys.executable).parent / "presag"
-REPOSITORY = Path(__file__).resolve().parents[1]
+REPOSITORY = Path(__file__).resolve().parents[2]
 
 
 def presag(*args: str, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
