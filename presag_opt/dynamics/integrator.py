@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from presag_opt.dynamics.laws import SchemeConstants, scheme_constants
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.linalg import BandedSolver
 from presag_opt.system.quantity import quantity, validate_fields
@@ -204,33 +205,6 @@ class IntegrationResult:
         return len(self.iterations) / max(self.wall_time, 1e-12)
 
 
-@dataclass(frozen=True)
-class _Coefficients:
-    """Newmark/HHT constants for one time step."""
-
-    dt: float
-    alpha: float
-    beta: float
-    gamma: float
-
-    @classmethod
-    def of(cls, settings: IntegratorSettings) -> _Coefficients:
-        alpha = settings.hht_alpha if settings.scheme == "hht" else 0.0
-        return cls(settings.time_step, alpha, (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha)
-
-    @property
-    def s(self) -> float:
-        return 1.0 + self.alpha
-
-    @property
-    def a0(self) -> float:
-        return 1.0 / (self.beta * self.dt**2)
-
-    @property
-    def a1(self) -> float:
-        return self.gamma / (self.beta * self.dt)
-
-
 @dataclass
 class _System:
     """The equation of motion and the scheme constants."""
@@ -240,7 +214,7 @@ class _System:
     stiffness: sp.csr_matrix
     external_force: Callable[[float], np.ndarray]
     nonlinear_force: NonlinearForceFunction
-    c: _Coefficients
+    c: SchemeConstants
 
     def effective_matrix(self) -> sp.csc_matrix:
         """K_eff = a0 M + s (K + a1 C). [N/m]"""
@@ -274,10 +248,10 @@ class _Step:
     forcing: np.ndarray
     rhs: np.ndarray
 
-    def kinematics(self, u: np.ndarray, c: _Coefficients) -> tuple[np.ndarray, np.ndarray]:
+    def kinematics(self, u: np.ndarray, c: SchemeConstants) -> tuple[np.ndarray, np.ndarray]:
         """Acceleration and velocity that go with the displacement ``u``. [m/s²], [m/s]"""
         a = c.a0 * (u - self.u_pred)
-        return a, self.v_pred + c.gamma * c.dt * a
+        return a, self.v_pred + c.velocity_update * a
 
 
 def _full_residual(system: _System, step: _Step, u: np.ndarray, nl: NonlinearForce) -> tuple[np.ndarray, float]:
@@ -487,7 +461,7 @@ def _build_system(
         *matrices,
         external_force=external_force or (lambda t: zero),
         nonlinear_force=nonlinear_force or (lambda u, v, t: NO_FORCE),
-        c=_Coefficients.of(settings),
+        c=scheme_constants(settings),
     )
 
 
@@ -527,8 +501,8 @@ def _predict(
     rhs = c.s * forcing - c.alpha * force + c.alpha * internal if c.alpha else forcing
     return _Step(
         time=t_next,
-        u_pred=u + c.dt * v + c.dt**2 * (0.5 - c.beta) * a,
-        v_pred=v + c.dt * (1.0 - c.gamma) * a,
+        u_pred=u + c.time_step * v + c.displacement_predictor * a,
+        v_pred=v + c.velocity_predictor * a,
         forcing=forcing,
         rhs=rhs,
     )

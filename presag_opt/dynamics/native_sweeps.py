@@ -11,9 +11,11 @@ whose accumulators stay in vector registers; it gives the same numbers to the la
 
 The library is built once per machine by :func:`presag_opt.static.native.build` (``-O3
 -march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
-loaded into the process, and the numba kernel :func:`advance` calls its functions by name; numba
-caches that kernel like the others. Without a compiler, or with ``PRESAG_NO_COMPILE=1``,
-:func:`available` is False and the simulator uses :func:`presag_opt.dynamics.kernel.advance`.
+loaded into the process. :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call
+its functions by name with the arguments of the numba sweeps, and the one driver loop,
+:func:`presag_opt.dynamics.kernel.advance`, takes either kind. Without a compiler, or with
+``PRESAG_NO_COMPILE=1``, :func:`available` is False and the kernel takes the numba sweeps
+(:func:`link` then stands in for the C symbols, so the kernel still compiles).
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
 the padding lanes are swept too and never read.
@@ -21,12 +23,15 @@ the padding lanes are swept too and never read.
 
 from __future__ import annotations
 
+import ctypes
 import functools
+import os
+import sys
 from pathlib import Path
 
-from numba import njit, types
+from numba import types
 
-from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step, update_constants
+from presag_opt.dynamics.jit import inline
 from presag_opt.static import native
 
 LANES = 8
@@ -38,13 +43,16 @@ FLAGS = ("-O3", "-march=native", "-ffp-contract=off")
 """Compiler flags: optimised for this processor, with every multiplication and addition rounded
 on its own as in numba (no contraction into fused multiply-adds)."""
 
+SYMBOLS = ("presag_forward_sweep", "presag_backward_sweep", "presag_update_sweep")
+"""The functions of ``sweeps.c`` the kernel calls."""
+
 _pointer = types.uintp
-_forward = types.ExternalFunction("presag_forward_sweep", types.void(
+_forward = types.ExternalFunction(SYMBOLS[0], types.void(
     _pointer, _pointer, _pointer, types.int64, types.int64, types.float64, types.float64, _pointer, _pointer,
     _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, types.int64))
-_backward = types.ExternalFunction("presag_backward_sweep", types.void(
+_backward = types.ExternalFunction(SYMBOLS[1], types.void(
     _pointer, _pointer, types.int64, types.int64, types.int64, types.int64))
-_update = types.ExternalFunction("presag_update_sweep", types.void(
+_update = types.ExternalFunction(SYMBOLS[2], types.void(
     types.int64, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, _pointer, _pointer, _pointer,
     _pointer, _pointer, types.int64, types.int64, types.int64, types.float64, types.float64, types.float64,
     types.float64, types.float64, types.float64, types.float64, types.float64, _pointer, _pointer, _pointer,
@@ -61,7 +69,28 @@ def available() -> bool:
     import llvmlite.binding as llvm
 
     llvm.load_library_permanently(str(library))
+    loaded = ctypes.CDLL(str(library))
+    for name in SYMBOLS:  # ahead of any stand-in that link() registered before
+        llvm.add_symbol(name, ctypes.cast(getattr(loaded, name), ctypes.c_void_p).value)
     return True
+
+
+@ctypes.CFUNCTYPE(None)
+def _missing() -> None:  # pragma: no cover - the kernel calls the C sweeps only when they are available
+    sys.stderr.write("presag_opt: the compiled sweeps were called but are not built\n")
+    os.abort()
+
+
+def link() -> None:
+    """Make the C sweeps' symbols resolvable, so that the kernel (which holds both kinds of sweeps)
+    compiles and loads: the built library's, or, where none is loaded, a stand-in that is never
+    called (the kernel takes the numba sweeps whenever :func:`available` is False). Call it after
+    :func:`available`."""
+    import llvmlite.binding as llvm
+
+    for name in SYMBOLS:
+        if llvm.address_of_symbol(name) is None:
+            llvm.add_symbol(name, ctypes.cast(_missing, ctypes.c_void_p).value)
 
 
 def lanes_for(n_runs: int) -> int:
@@ -69,34 +98,40 @@ def lanes_for(n_runs: int) -> int:
     return -(-n_runs // LANES) * LANES
 
 
-@njit(cache=True)
-def advance(first_step, last_step, scalars, shared, runs, state, out, work, scratch):
-    """:func:`presag_opt.dynamics.kernel.advance` with its three sweeps in compiled C (same arguments,
-    same results; the catenary's run arrays padded to :func:`lanes_for` runs)."""
-    rayleigh_alpha, rayleigh_beta, dt, hht_alpha = scalars[0], scalars[1], scalars[2], scalars[3]
-    stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
-    candidate_index, support_row = shared[21], shared[23]
-    n_steps = runs[0]
-    u, v, q, r = state[0], state[1], state[2], state[3]
-    uplift_max, status = out[1], out[3]
-    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
-    phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
-    n, width = factor_band.shape
-    ld = delta.shape[1]
-    s, a0, c_v, c_a, c_g = update_constants(scalars)
-    for step in range(first_step, last_step + 1):
-        active = start_step(step, runs, out, work)
-        if active == 0:
-            break
-        lanes = min(ld, -(-active // LANES) * LANES)
-        _forward(stiffness_band.ctypes.data, factor_band.ctypes.data, mass.ctypes.data, n, width, rayleigh_alpha, s,
-                 q.ctypes.data, v.ctypes.data, r.ctypes.data, candidate_index.ctypes.data, linear.ctypes.data,
-                 g.ctypes.data, scale.ctypes.data, first_residual.ctypes.data, delta.ctypes.data, ld, lanes)
-        _backward(factor_band.ctypes.data, delta.ctypes.data, n, width, ld, lanes)
-        newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
-        _update(n, mass.ctypes.data, columns.ctypes.data, phi_count.ctypes.data, phi_column.ctypes.data,
-                phi_coefficient.ctypes.data, phi_column.shape[1], u.ctypes.data, v.ctypes.data, q.ctypes.data,
-                r.ctypes.data, delta.ctypes.data, ld, lanes, active, a0, c_g, dt, c_a, c_v, s, hht_alpha,
-                rayleigh_beta, support_row.ctypes.data, status.ctypes.data, n_steps.ctypes.data, step,
-                uplift_max.ctypes.data)
-        finish_step(step, active, runs, out)
+@inline
+def _lanes(work, active):
+    """The lanes a sweep of ``active`` runs covers: whole blocks, within the padded run dimension."""
+    return min(work.delta.shape[1], -(-active // LANES) * LANES)
+
+
+@inline
+def forward_sweep(scalars, shared, state, work, active):
+    """:func:`presag_opt.dynamics.kernel.forward_sweep` in C."""
+    sh = shared
+    n, width = sh.factor_band.shape
+    _forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
+             scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data, state.r.ctypes.data,
+             sh.candidate_index.ctypes.data, work.linear.ctypes.data, work.g.ctypes.data, work.scale.ctypes.data,
+             work.first_residual.ctypes.data, work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active))
+
+
+@inline
+def backward_sweep(shared, work, active):
+    """The backward substitution of K_eff δ_lin = g in C (numba's is
+    :func:`presag_opt.static.kernels.backward_substitution`)."""
+    n, width = shared.factor_band.shape
+    _backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
+              _lanes(work, active))
+
+
+@inline
+def update_sweep(step, scalars, shared, runs, state, out, work, active):
+    """:func:`presag_opt.dynamics.kernel.update_sweep` in C."""
+    c, sh = scalars.scheme, shared
+    _update(sh.mass.shape[0], sh.mass.ctypes.data, sh.columns.ctypes.data, work.phi_count.ctypes.data,
+            work.phi_column.ctypes.data, work.phi_coefficient.ctypes.data, work.phi_column.shape[1],
+            state.u.ctypes.data, state.v.ctypes.data, state.q.ctypes.data, state.r.ctypes.data,
+            work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active), active, c.a0, c.velocity_update,
+            c.time_step, c.displacement_predictor, c.velocity_predictor, c.s, c.alpha, scalars.rayleigh_beta,
+            sh.support_row.ctypes.data, out.status.ctypes.data, runs.n_steps.ctypes.data, step,
+            out.uplift_max.ctypes.data)

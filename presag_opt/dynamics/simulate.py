@@ -55,6 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from presag_opt.dynamics import laws
 from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce, State, integrate
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.run_plan import (
@@ -277,7 +278,7 @@ class _Interaction:
         model = self.model
         wire = weights @ (model.cw_height[nodes] + u[model.cw_z[nodes]])
         penetration = coupling.head_height + u[coupling.dofs[0]] - wire
-        stiffness = 1.0 / (1.0 / coupling.pantograph.contact.stiffness + compliance)
+        stiffness = laws.contact_stiffness(coupling.pantograph.contact.stiffness, compliance)
         return nodes, weights, compliance, stiffness, penetration
 
     def force(self, u: np.ndarray, v: np.ndarray, t: float) -> NonlinearForce:
@@ -289,9 +290,8 @@ class _Interaction:
             gradient = np.zeros(2 + n_stages)
             gradient[:2] = -weights
             gradient[2] = 1.0
-            in_contact = penetration > 0.0
-            force = stiffness * penetration * gradient if in_contact else np.zeros(2 + n_stages)
-            tangent = stiffness * np.outer(gradient, gradient) if in_contact else np.zeros((2 + n_stages,) * 2)
+            force = laws.contact_force(stiffness, penetration) * gradient
+            tangent = laws.contact_tangent(stiffness, penetration) * np.outer(gradient, gradient)
             damping = np.zeros_like(tangent)
             if coupling.pantograph.has_friction:
                 friction, slope = coupling.pantograph.friction_force(v[coupling.dofs], self.friction)
@@ -313,7 +313,7 @@ class _Interaction:
         forces, uplifts = [], []
         for coupling in self.couplings:
             nodes, weights, compliance, stiffness, penetration = self.contact(coupling, u, t)
-            force = stiffness * max(penetration, 0.0)
+            force = laws.contact_force(stiffness, penetration)
             forces.append(force)
             uplifts.append(weights @ u[self.model.cw_z[nodes]] + compliance * force)
         droppers = self.model.dropper_force(u, v)[recorded_droppers]
