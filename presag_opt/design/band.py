@@ -26,8 +26,7 @@ from presag_opt.system.quantity import quantity, validate_fields
 FORCE_LEVEL_SPACING = 50.0
 """Spacing of the elasticity force levels (the paper: "three force steps of 50 N"). [N]"""
 
-KMH = 1.0 / 3.6
-"""One km/h in m/s. [m/s]"""
+KMH = contact_force.KMH  # one km/h in m/s, defined once in presag_opt.contact_force [m/s]
 
 
 def mean_contact_force(

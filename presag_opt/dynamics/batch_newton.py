@@ -309,7 +309,7 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
         sc.stretch[d] = drop.stretch[d] + sc.stretch[d]
     count, slack = nonlinear_forces(b, step, a1, scalars, shared, runs, scratch)
     for k in range(n_phi):
-        q, count = enter_set(sc.phi_dofs[k], sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
+        _, count = enter_set(sc.phi_dofs[k], sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
     for i in range(count):
         sc.residual[i] = s * sc.set_force[i]
     for k in range(n_phi):

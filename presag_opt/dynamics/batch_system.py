@@ -18,7 +18,15 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from presag_opt.dynamics import kernel, native_sweeps
-from presag_opt.dynamics.kernel_data import Records, Runs, RunState, Scalars, Shared, make_scratch, make_work
+from presag_opt.dynamics.kernel_data import (
+    Records,
+    Runs,
+    RunState,
+    Scalars,
+    Shared,
+    make_scratch,
+    make_work,
+)
 from presag_opt.dynamics.laws import scheme_constants, suspension_elements
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_contact
@@ -263,11 +271,11 @@ def integrate_batch(
     out = Records(*(getattr(records, name) for name in Records._fields))
     scratch = make_scratch(shared)
     work = make_work(shared, n_runs, lanes)
-    native_sweeps.link()
+    c_sweeps = native_sweeps.sweeps()
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
     for first in range(1, longest + 1, CHUNK_STEPS):
-        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, system.scalars, shared, runs, run_state,
-                       out, work, scratch)
+        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, c_sweeps, system.scalars, shared, runs,
+                       run_state, out, work, scratch)
     return records
 
 

@@ -55,7 +55,7 @@ def dependency_files(function: Callable) -> tuple[str, ...]:
     return tuple(sorted(files))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _file_digest(path: str, mtime: float, size: int) -> bytes:
     with open(path, "rb") as handle:
         return hashlib.sha256(handle.read()).digest()

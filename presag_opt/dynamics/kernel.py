@@ -123,7 +123,7 @@ def initialise(scalars, shared, runs, state, out, scratch):
 
 
 @kernel_function
-def advance(first_step, last_step, compiled, scalars, shared, runs, state, out, work, scratch):
+def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, state, out, work, scratch):
     """Advance every running run from record ``first_step − 1`` to record ``last_step``.
 
     Runs are sorted by step count, longest first, so the runs still going form a prefix of the
@@ -139,23 +139,23 @@ def advance(first_step, last_step, compiled, scalars, shared, runs, state, out, 
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
     run by run on the others (:func:`~presag_opt.dynamics.batch_newton.newton_step`).
 
-    The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C
-    (:mod:`presag_opt.dynamics.native_sweeps`, same arguments, same numbers to the last bit; the
-    catenary's run arrays padded to whole blocks of lanes).
+    The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
+    function pointers ``c_sweeps`` (:func:`presag_opt.dynamics.native_sweeps.sweeps`; same arguments,
+    same numbers to the last bit; the catenary's run arrays padded to whole blocks of lanes).
     """
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
         if active == 0:
             break
         if compiled:
-            native.forward_sweep(scalars, shared, state, work, active)
-            native.backward_sweep(shared, work, active)
+            native.forward_sweep(c_sweeps, scalars, shared, state, work, active)
+            native.backward_sweep(c_sweeps, shared, work, active)
         else:
             forward_sweep(scalars, shared, state, work, active)
             backward_substitution(shared.factor_band, work.delta, active)
         newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
         if compiled:
-            native.update_sweep(step, scalars, shared, runs, state, out, work, active)
+            native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
         else:
             update_sweep(step, scalars, shared, runs, state, out, work, active)
         finish_step(step, active, runs, out)

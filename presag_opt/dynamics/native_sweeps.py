@@ -11,11 +11,12 @@ whose accumulators stay in vector registers; it gives the same numbers to the la
 
 The library is built once per machine by :func:`presag_opt.static.native.build` (``-O3
 -march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
-loaded into the process. :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call
-its functions by name with the arguments of the numba sweeps, and the one driver loop,
+loaded into the process with ctypes; :func:`sweeps` hands its functions to the kernel as function
+pointers, and :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call them with the
+arguments of the numba sweeps, so that the one driver loop,
 :func:`presag_opt.dynamics.kernel.advance`, takes either kind. Without a compiler, or with
-``PRESAG_NO_COMPILE=1``, :func:`available` is False and the kernel takes the numba sweeps
-(:func:`link` then stands in for the C symbols, so the kernel still compiles).
+``PRESAG_NO_COMPILE=1``, :func:`available` is False, :func:`sweeps` gives stand-ins of the same
+signatures, and the kernel takes the numba sweeps.
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
 the padding lanes are swept too and never read.
@@ -28,8 +29,7 @@ import functools
 import os
 import sys
 from pathlib import Path
-
-from numba import types
+from typing import NamedTuple
 
 from presag_opt.dynamics.jit import inline
 from presag_opt.static import native
@@ -43,54 +43,58 @@ FLAGS = ("-O3", "-march=native", "-ffp-contract=off")
 """Compiler flags: optimised for this processor, with every multiplication and addition rounded
 on its own as in numba (no contraction into fused multiply-adds)."""
 
-SYMBOLS = ("presag_forward_sweep", "presag_backward_sweep", "presag_update_sweep")
-"""The functions of ``sweeps.c`` the kernel calls."""
+_P, _I, _D = ctypes.c_size_t, ctypes.c_int64, ctypes.c_double  # pointer (as the address), int64, double
+SIGNATURES = {
+    "presag_forward_sweep": (_P, _P, _P, _I, _I, _D, _D, _P, _P, _P, _P, _P, _P, _P, _P, _P, _I, _I),
+    "presag_backward_sweep": (_P, _P, _I, _I, _I, _I),
+    "presag_update_sweep": (_I, _P, _P, _P, _P, _P, _I, _P, _P, _P, _P, _P, _I, _I, _I, _D, _D, _D, _D, _D, _D, _D,
+                            _D, _P, _P, _P, _I, _P),
+}
+"""The functions of ``sweeps.c`` the kernel calls and their argument types (all return void)."""
 
-_pointer = types.uintp
-_forward = types.ExternalFunction(SYMBOLS[0], types.void(
-    _pointer, _pointer, _pointer, types.int64, types.int64, types.float64, types.float64, _pointer, _pointer,
-    _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, types.int64))
-_backward = types.ExternalFunction(SYMBOLS[1], types.void(
-    _pointer, _pointer, types.int64, types.int64, types.int64, types.int64))
-_update = types.ExternalFunction(SYMBOLS[2], types.void(
-    types.int64, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, _pointer, _pointer, _pointer,
-    _pointer, _pointer, types.int64, types.int64, types.int64, types.float64, types.float64, types.float64,
-    types.float64, types.float64, types.float64, types.float64, types.float64, _pointer, _pointer, _pointer,
-    types.int64, _pointer))
+
+class CSweeps(NamedTuple):
+    """The C sweeps as function pointers, which the kernel takes as arguments (numba calls them
+    through the pointer; their type is their signature, so one compiled kernel serves the library's
+    functions and the stand-ins alike)."""
+
+    forward: object
+    backward: object
+    update: object
 
 
 @functools.cache
 def available() -> bool:
-    """Whether the compiled sweeps are built and loaded into this process (False without a C
-    compiler or with ``PRESAG_NO_COMPILE`` set)."""
-    library = native.build("sweeps", SOURCE.read_text(), FLAGS)
-    if library is None:
-        return False
-    import llvmlite.binding as llvm
-
-    llvm.load_library_permanently(str(library))
-    loaded = ctypes.CDLL(str(library))
-    for name in SYMBOLS:  # ahead of any stand-in that link() registered before
-        llvm.add_symbol(name, ctypes.cast(getattr(loaded, name), ctypes.c_void_p).value)
-    return True
+    """Whether the compiled sweeps are built for this machine (False without a C compiler or with
+    ``PRESAG_NO_COMPILE`` set)."""
+    return native.build("sweeps", SOURCE.read_text(), FLAGS) is not None
 
 
-@ctypes.CFUNCTYPE(None)
-def _missing() -> None:  # pragma: no cover - the kernel calls the C sweeps only when they are available
+@functools.cache
+def _loaded(path: str) -> CSweeps:
+    library = ctypes.CDLL(path)
+    functions = []
+    for name, arguments in SIGNATURES.items():
+        function = getattr(library, name)
+        function.argtypes, function.restype = arguments, None
+        functions.append(function)
+    return CSweeps(*functions)
+
+
+def _missing(*arguments) -> None:  # pragma: no cover - the kernel calls the C sweeps only when available
     sys.stderr.write("presag_opt: the compiled sweeps were called but are not built\n")
-    os.abort()
+    os.abort()  # never a silent wrong result (an exception cannot leave a C callback)
 
 
-def link() -> None:
-    """Make the C sweeps' symbols resolvable, so that the kernel (which holds both kinds of sweeps)
-    compiles and loads: the built library's, or, where none is loaded, a stand-in that is never
-    called (the kernel takes the numba sweeps whenever :func:`available` is False). Call it after
-    :func:`available`."""
-    import llvmlite.binding as llvm
+_STAND_INS = CSweeps(*(ctypes.CFUNCTYPE(None, *arguments)(_missing) for arguments in SIGNATURES.values()))
+"""Functions of the sweeps' signatures that are never called: the kernel's C arguments without a library."""
 
-    for name in SYMBOLS:
-        if llvm.address_of_symbol(name) is None:
-            llvm.add_symbol(name, ctypes.cast(_missing, ctypes.c_void_p).value)
+
+def sweeps() -> CSweeps:
+    """The C sweeps for the kernel: the built library's functions, or, without one, stand-ins of the
+    same signatures (the kernel then takes the numba sweeps and never calls them)."""
+    library = native.build("sweeps", SOURCE.read_text(), FLAGS) if available() else None
+    return _loaded(str(library)) if library is not None else _STAND_INS
 
 
 def lanes_for(n_runs: int) -> int:
@@ -105,33 +109,34 @@ def _lanes(work, active):
 
 
 @inline
-def forward_sweep(scalars, shared, state, work, active):
+def forward_sweep(c_sweeps, scalars, shared, state, work, active):
     """:func:`presag_opt.dynamics.kernel.forward_sweep` in C."""
     sh = shared
     n, width = sh.factor_band.shape
-    _forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
-             scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data, state.r.ctypes.data,
-             sh.candidate_index.ctypes.data, work.linear.ctypes.data, work.g.ctypes.data, work.scale.ctypes.data,
-             work.first_residual.ctypes.data, work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active))
+    c_sweeps.forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
+                     scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data,
+                     state.r.ctypes.data, sh.candidate_index.ctypes.data, work.linear.ctypes.data, work.g.ctypes.data,
+                     work.scale.ctypes.data, work.first_residual.ctypes.data, work.delta.ctypes.data,
+                     work.delta.shape[1], _lanes(work, active))
 
 
 @inline
-def backward_sweep(shared, work, active):
+def backward_sweep(c_sweeps, shared, work, active):
     """The backward substitution of K_eff δ_lin = g in C (numba's is
     :func:`presag_opt.static.kernels.backward_substitution`)."""
     n, width = shared.factor_band.shape
-    _backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
-              _lanes(work, active))
+    c_sweeps.backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
+                      _lanes(work, active))
 
 
 @inline
-def update_sweep(step, scalars, shared, runs, state, out, work, active):
+def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
     """:func:`presag_opt.dynamics.kernel.update_sweep` in C."""
     c, sh = scalars.scheme, shared
-    _update(sh.mass.shape[0], sh.mass.ctypes.data, sh.columns.ctypes.data, work.phi_count.ctypes.data,
-            work.phi_column.ctypes.data, work.phi_coefficient.ctypes.data, work.phi_column.shape[1],
-            state.u.ctypes.data, state.v.ctypes.data, state.q.ctypes.data, state.r.ctypes.data,
-            work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active), active, c.a0, c.velocity_update,
-            c.time_step, c.displacement_predictor, c.velocity_predictor, c.s, c.alpha, scalars.rayleigh_beta,
-            sh.support_row.ctypes.data, out.status.ctypes.data, runs.n_steps.ctypes.data, step,
-            out.uplift_max.ctypes.data)
+    c_sweeps.update(sh.mass.shape[0], sh.mass.ctypes.data, sh.columns.ctypes.data, work.phi_count.ctypes.data,
+                    work.phi_column.ctypes.data, work.phi_coefficient.ctypes.data, work.phi_column.shape[1],
+                    state.u.ctypes.data, state.v.ctypes.data, state.q.ctypes.data, state.r.ctypes.data,
+                    work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active), active, c.a0,
+                    c.velocity_update, c.time_step, c.displacement_predictor, c.velocity_predictor, c.s, c.alpha,
+                    scalars.rayleigh_beta, sh.support_row.ctypes.data, out.status.ctypes.data,
+                    runs.n_steps.ctypes.data, step, out.uplift_max.ctypes.data)

@@ -84,7 +84,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce
+from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linearised import TensionOnlyStructure

@@ -9,8 +9,17 @@ import pytest
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.integrator import IntegratorSettings, NonlinearForce, State, integrate
-from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph, load_pantograph
+from presag_opt.dynamics.integrator import (
+    IntegratorSettings,
+    NonlinearForce,
+    State,
+    integrate,
+)
+from presag_opt.dynamics.pantograph import (
+    FrictionRegularisation,
+    Pantograph,
+    load_pantograph,
+)
 from presag_opt.errors import ConvergenceError, ModelError
 
 
