@@ -90,63 +90,69 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
     rate ``scratch.rate`` [m/s]. Writes the set's DOFs, forces [N], dense tangent [N/m] and each
     contact force [N] into ``scratch``; returns (set size, recorded droppers slack).
     """
-    sh, sc = shared, scratch
+    head_dof, contact_stiffness_, cw_height = shared.head_dof, shared.contact_stiffness, shared.cw_height
+    friction_dofs, friction_levels = shared.friction_dofs, shared.friction_levels
+    dropper_dofs, dropper_gradient, dropper_stiffness = shared.dropper_dofs, shared.dropper_gradient, shared.dropper_stiffness
+    dropper_preload, dropper_recorded = shared.dropper_preload, shared.dropper_recorded
+    path_nodes, path_weights, path_compliance, head_height = (runs.path_nodes, runs.path_weights, runs.path_compliance,
+                                                              runs.head_height)
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    contact_now, u_of, v_of, stretch, rate = scratch.contact_now, scratch.u_of, scratch.v_of, scratch.stretch, scratch.rate
+    friction_velocity, rayleigh_beta = scalars.friction_velocity, scalars.rayleigh_beta
     count = 0
-    for p in range(sh.head_dof.shape[0]):
-        n1, n2 = runs.path_nodes[b, p, step, 0], runs.path_nodes[b, p, step, 1]
-        w1, w2 = runs.path_weights[b, p, step, 0], runs.path_weights[b, p, step, 1]
-        stiffness = contact_stiffness(sh.contact_stiffness[p], runs.path_compliance[b, p, step])
-        head = sh.head_dof[p]
-        wire = w1 * (sh.cw_height[n1] + sc.u_of[n1]) + w2 * (sh.cw_height[n2] + sc.u_of[n2])
-        penetration = runs.head_height[b, p] + sc.u_of[head] - wire
-        q1, count = enter_set(n1, sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
-        q2, count = enter_set(n2, sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
-        qh, count = enter_set(head, sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
+    for p in range(head_dof.shape[0]):
+        n1, n2 = path_nodes[b, p, step, 0], path_nodes[b, p, step, 1]
+        w1, w2 = path_weights[b, p, step, 0], path_weights[b, p, step, 1]
+        stiffness = contact_stiffness(contact_stiffness_[p], path_compliance[b, p, step])
+        head = head_dof[p]
+        wire = w1 * (cw_height[n1] + u_of[n1]) + w2 * (cw_height[n2] + u_of[n2])
+        penetration = head_height[b, p] + u_of[head] - wire
+        q1, count = enter_set(n1, set_dofs, set_force, tangent, position, count)
+        q2, count = enter_set(n2, set_dofs, set_force, tangent, position, count)
+        qh, count = enter_set(head, set_dofs, set_force, tangent, position, count)
         force = contact_force(stiffness, penetration)
         k = contact_tangent(stiffness, penetration)
-        sc.contact_now[p] = force
+        contact_now[p] = force
         if k != 0.0:
-            sc.set_force[q1] -= w1 * force
-            sc.set_force[q2] -= w2 * force
-            sc.set_force[qh] += force
-            sc.tangent[q1, q1] += k * w1 * w1
-            sc.tangent[q1, q2] += k * w1 * w2
-            sc.tangent[q1, qh] -= k * w1
-            sc.tangent[q2, q1] += k * w2 * w1
-            sc.tangent[q2, q2] += k * w2 * w2
-            sc.tangent[q2, qh] -= k * w2
-            sc.tangent[qh, q1] -= k * w1
-            sc.tangent[qh, q2] -= k * w2
-            sc.tangent[qh, qh] += k
-    for e in range(sh.friction_levels.shape[0]):
-        upper, lower = sh.friction_dofs[e, 0], sh.friction_dofs[e, 1]
-        relative = sc.v_of[upper] - (sc.v_of[lower] if lower >= 0 else 0.0)
-        force, slope = friction(sh.friction_levels[e], relative, scalars.friction_velocity, a1)
-        qu, count = enter_set(upper, sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
-        sc.set_force[qu] += force
-        sc.tangent[qu, qu] += slope
+            set_force[q1] -= w1 * force
+            set_force[q2] -= w2 * force
+            set_force[qh] += force
+            tangent[q1, q1] += k * w1 * w1
+            tangent[q1, q2] += k * w1 * w2
+            tangent[q1, qh] -= k * w1
+            tangent[q2, q1] += k * w2 * w1
+            tangent[q2, q2] += k * w2 * w2
+            tangent[q2, qh] -= k * w2
+            tangent[qh, q1] -= k * w1
+            tangent[qh, q2] -= k * w2
+            tangent[qh, qh] += k
+    for e in range(friction_levels.shape[0]):
+        upper, lower = friction_dofs[e, 0], friction_dofs[e, 1]
+        relative = v_of[upper] - (v_of[lower] if lower >= 0 else 0.0)
+        force, slope = friction(friction_levels[e], relative, friction_velocity, a1)
+        qu, count = enter_set(upper, set_dofs, set_force, tangent, position, count)
+        set_force[qu] += force
+        tangent[qu, qu] += slope
         if lower >= 0:
-            ql, count = enter_set(lower, sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
-            sc.set_force[ql] -= force
-            sc.tangent[ql, ql] += slope
-            sc.tangent[qu, ql] -= slope
-            sc.tangent[ql, qu] -= slope
+            ql, count = enter_set(lower, set_dofs, set_force, tangent, position, count)
+            set_force[ql] -= force
+            tangent[ql, ql] += slope
+            tangent[qu, ql] -= slope
+            tangent[ql, qu] -= slope
     slack_recorded = 0
-    q = sc.dropper_set
-    for d in range(sh.dropper_preload.shape[0]):
-        axial = dropper_axial_force(sh.dropper_preload[d], sh.dropper_stiffness[d], sc.stretch[d], sc.rate[d],
-                                    scalars.rayleigh_beta)
-        if dropper_tension(axial) <= 0.0 and sh.dropper_recorded[d]:
+    q = scratch.dropper_set
+    for d in range(dropper_preload.shape[0]):
+        axial = dropper_axial_force(dropper_preload[d], dropper_stiffness[d], stretch[d], rate[d], rayleigh_beta)
+        if dropper_tension(axial) <= 0.0 and dropper_recorded[d]:
             slack_recorded += 1
         if dropper_slack(axial):
             for c in range(6):
-                q[c], count = enter_set(sh.dropper_dofs[d, c], sc.set_dofs, sc.set_force, sc.tangent, sc.position,
-                                        count)
-            k = -sh.dropper_stiffness[d] * (1.0 + a1 * scalars.rayleigh_beta)
+                q[c], count = enter_set(dropper_dofs[d, c], set_dofs, set_force, tangent, position, count)
+            k = -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta)
             for i in range(6):
-                sc.set_force[q[i]] += -axial * sh.dropper_gradient[d, i]
+                set_force[q[i]] += -axial * dropper_gradient[d, i]
                 for c in range(6):
-                    sc.tangent[q[i], q[c]] += k * sh.dropper_gradient[d, i] * sh.dropper_gradient[d, c]
+                    tangent[q[i], q[c]] += k * dropper_gradient[d, i] * dropper_gradient[d, c]
     return count, slack_recorded
 
 
@@ -154,29 +160,33 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
 def pantograph_predictor(b, scalars, shared, runs, state):
     """Run ``b``'s pantograph predictors, right-hand side (uplift on the heads), C ṽ + K ũ, g and
     δ_lin (a :class:`PantographStep`)."""
-    c, sh = scalars.scheme, shared
-    n = sh.mass.shape[0]
-    n_p = sh.pantograph_mass.shape[0]
-    pan = PantographStep(np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p))
+    c = scalars.scheme
+    head_dof, damping, stiffness, inverse = (shared.head_dof, shared.pantograph_damping, shared.pantograph_stiffness,
+                                             shared.pantograph_inverse)
+    pantograph_u, pv, pa, pantograph_r = state.pantograph_u, state.pantograph_v, state.pantograph_a, state.pantograph_r
+    n = shared.mass.shape[0]
+    n_p = shared.pantograph_mass.shape[0]
+    u_pred, v_pred, rhs, linear, g, delta_lin = (np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p),
+                                                 np.empty(n_p), np.empty(n_p))
     for i in range(n_p):
-        pan.u_pred[i] = (state.pantograph_u[i, b] + c.time_step * state.pantograph_v[i, b]
-                         + c.displacement_predictor * state.pantograph_a[i, b])
-        pan.v_pred[i] = state.pantograph_v[i, b] + c.velocity_predictor * state.pantograph_a[i, b]
+        u_pred[i] = pantograph_u[i, b] + c.time_step * pv[i, b] + c.displacement_predictor * pa[i, b]
+        v_pred[i] = pv[i, b] + c.velocity_predictor * pa[i, b]
     for i in range(n_p):
-        pan.rhs[i] = c.alpha * state.pantograph_r[i, b]
-    for p in range(sh.head_dof.shape[0]):
-        pan.rhs[sh.head_dof[p] - n] += runs.uplift[b]
+        rhs[i] = c.alpha * pantograph_r[i, b]
+    for p in range(head_dof.shape[0]):
+        rhs[head_dof[p] - n] += runs.uplift[b]
     for i in range(n_p):
         lin = 0.0
         for k in range(n_p):
-            lin += sh.pantograph_damping[i, k] * pan.v_pred[k] + sh.pantograph_stiffness[i, k] * pan.u_pred[k]
-        pan.linear[i] = lin
-        pan.g[i] = pan.rhs[i] - c.s * lin
+            lin += damping[i, k] * v_pred[k] + stiffness[i, k] * u_pred[k]
+        linear[i] = lin
+        g[i] = rhs[i] - c.s * lin
     for i in range(n_p):
         acc = 0.0
         for k in range(n_p):
-            acc += sh.pantograph_inverse[i, k] * pan.g[k]
-        pan.delta_lin[i] = acc
+            acc += inverse[i, k] * g[k]
+        delta_lin[i] = acc
+    pan = PantographStep(u_pred, v_pred, rhs, linear, g, delta_lin)
     return pan
 
 
@@ -184,53 +194,58 @@ def pantograph_predictor(b, scalars, shared, runs, state):
 def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     """Run ``b``'s droppers at the predictor (a :class:`DropperStep`; ``scratch.stretch`` and
     ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``."""
-    sh, sc = shared, scratch
-    n = sh.mass.shape[0]
-    n_d = sh.dropper_dofs.shape[0]
-    drop = DropperStep(np.empty(n_d), np.empty(n_d), np.empty(n_d))
+    dropper_dofs, dropper_gradient, path_nodes = shared.dropper_dofs, shared.dropper_gradient, runs.path_nodes
+    u_pred, v_pred, delta = state.u, state.v, work.delta
+    u_of, v_of, stretch, rate = scratch.u_of, scratch.v_of, scratch.stretch, scratch.rate
+    n = shared.mass.shape[0]
+    n_d = dropper_dofs.shape[0]
+    base_stretch, base_rate, linear_stretch = np.empty(n_d), np.empty(n_d), np.empty(n_d)
     for d in range(n_d):
         su = 0.0
         sv = 0.0
         sd = 0.0
         for c in range(6):
-            j = sh.dropper_dofs[d, c]
-            gd = sh.dropper_gradient[d, c]
-            su += gd * state.u[j, b]
-            sv += gd * state.v[j, b]
-            sd += gd * work.delta[j, b]
-        drop.stretch[d] = su
-        drop.rate[d] = sv
-        drop.linear[d] = sd
-        sc.stretch[d] = su
-        sc.rate[d] = sv
-    for p in range(sh.head_dof.shape[0]):
+            j = dropper_dofs[d, c]
+            gd = dropper_gradient[d, c]
+            su += gd * u_pred[j, b]
+            sv += gd * v_pred[j, b]
+            sd += gd * delta[j, b]
+        base_stretch[d] = su
+        base_rate[d] = sv
+        linear_stretch[d] = sd
+        stretch[d] = su
+        rate[d] = sv
+    for p in range(shared.head_dof.shape[0]):
         for c in range(2):
-            j = runs.path_nodes[b, p, step, c]
-            sc.u_of[j] = state.u[j, b]
-            sc.v_of[j] = state.v[j, b]
-    for i in range(pan.u_pred.shape[0]):
-        sc.u_of[n + i] = pan.u_pred[i]
-        sc.v_of[n + i] = pan.v_pred[i]
-    return drop
+            j = path_nodes[b, p, step, c]
+            u_of[j] = u_pred[j, b]
+            v_of[j] = v_pred[j, b]
+    p_pred, pv_pred = pan.u_pred, pan.v_pred
+    for i in range(p_pred.shape[0]):
+        u_of[n + i] = p_pred[i]
+        v_of[n + i] = pv_pred[i]
+    return DropperStep(base_stretch, base_rate, linear_stretch)
 
 
 @inline
 def residual_at_predictor(b, s, shared, state, work, scratch, pan):
     """The integrator's force scale and largest residual at the predictor of run ``b`` [N], the
     sweep's values completed on the rows the nonlinear forces can reach."""
-    sc = scratch
+    set_force, position, candidate_rows = scratch.set_force, scratch.position, shared.candidate_rows
+    linear, g, rhs = work.linear, work.g, state.r
     n = shared.mass.shape[0]
     largest_term = work.scale[b]
     largest = work.first_residual[b]
-    for i in range(shared.candidate_rows.shape[0]):
-        j = shared.candidate_rows[i]
-        f0 = sc.set_force[sc.position[j]] if sc.position[j] >= 0 else 0.0
-        largest_term = max(largest_term, abs(s * (work.linear[i, b] + f0)), abs(state.r[j, b]))
-        largest = max(largest, abs(s * f0 - work.g[i, b]))
-    for i in range(pan.linear.shape[0]):
-        f0 = sc.set_force[sc.position[n + i]] if sc.position[n + i] >= 0 else 0.0
-        largest_term = max(largest_term, abs(s * (pan.linear[i] + f0)), abs(pan.rhs[i]))
-        largest = max(largest, abs(s * f0 - pan.g[i]))
+    for i in range(candidate_rows.shape[0]):
+        j = candidate_rows[i]
+        f0 = set_force[position[j]] if position[j] >= 0 else 0.0
+        largest_term = max(largest_term, abs(s * (linear[i, b] + f0)), abs(rhs[j, b]))
+        largest = max(largest, abs(s * f0 - g[i, b]))
+    p_linear, p_rhs, p_g = pan.linear, pan.rhs, pan.g
+    for i in range(p_linear.shape[0]):
+        f0 = set_force[position[n + i]] if position[n + i] >= 0 else 0.0
+        largest_term = max(largest_term, abs(s * (p_linear[i] + f0)), abs(p_rhs[i]))
+        largest = max(largest, abs(s * f0 - p_g[i]))
     return largest_term, largest
 
 
@@ -239,36 +254,38 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate δ (0 at the predictor): x_S = (δ_lin − s Z f)_S
     − δ_S, y = (I + s T Z_SS)⁻¹ s T x_S; the new δ = δ_lin − s Z φ with φ = f + y/s, left in
     ``scratch.phi``. Returns the size of φ."""
-    sh, sc = shared, scratch
-    n = sh.mass.shape[0]
+    column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    phi_dofs, phi, delta, delta_lin = scratch.phi_dofs, scratch.phi, work.delta, pan.delta_lin
+    n = shared.mass.shape[0]
     x = np.empty(count)
     for i in range(count):
-        j = sc.set_dofs[i]
-        lin = work.delta[j, b] if j < n else pan.delta_lin[j - n]
+        j = set_dofs[i]
+        lin = delta[j, b] if j < n else delta_lin[j - n]
         acc = lin
         for k in range(count):
-            acc -= s * influence(j, sc.set_dofs[k], n, sh.column_of, sh.columns, sh.pantograph_inverse) * sc.set_force[k]
+            acc -= s * influence(j, set_dofs[k], n, column_of, columns, pantograph_inverse) * set_force[k]
         if taken > 0:
             current = lin
             for k in range(n_phi):
-                current -= s * influence(j, sc.phi_dofs[k], n, sh.column_of, sh.columns, sh.pantograph_inverse) * sc.phi[k]
+                current -= s * influence(j, phi_dofs[k], n, column_of, columns, pantograph_inverse) * phi[k]
             acc -= current
         x[i] = acc
     capacitance = np.eye(count)
     small = np.zeros(count)
     for i in range(count):
         for k in range(count):
-            t = s * sc.tangent[i, k]
+            t = s * tangent[i, k]
             if t != 0.0:
                 small[i] += t * x[k]
                 for m in range(count):
-                    capacitance[i, m] += t * influence(sc.set_dofs[k], sc.set_dofs[m], n, sh.column_of, sh.columns,
-                                                       sh.pantograph_inverse)
+                    capacitance[i, m] += t * influence(set_dofs[k], set_dofs[m], n, column_of, columns,
+                                                       pantograph_inverse)
     y = np.linalg.solve(capacitance, small)
     for i in range(count):
-        sc.phi_dofs[i] = sc.set_dofs[i]
-        sc.phi[i] = sc.set_force[i] + y[i] / s
-        sc.position[sc.set_dofs[i]] = -1
+        phi_dofs[i] = set_dofs[i]
+        phi[i] = set_force[i] + y[i] / s
+        position[set_dofs[i]] = -1
     return count
 
 
@@ -276,47 +293,54 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
 def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop):
     """The new iterate δ = δ_lin − s Z φ where the forces read it, its nonlinear forces, and the
     residual s (f − φ) on the set. Returns (set size, recorded droppers slack, largest |residual| [N])."""
-    c, sh, sc = scalars.scheme, shared, scratch
-    s, a1 = c.s, c.a1
-    n = sh.mass.shape[0]
-    for p in range(sh.head_dof.shape[0]):
+    s, a1 = scalars.scheme.s, scalars.scheme.a1
+    column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
+    stretch_influence, path_nodes, u_pred, v_pred, delta = (shared.stretch_influence, runs.path_nodes, state.u, state.v,
+                                                            work.delta)
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    u_of, v_of, stretch, rate = scratch.u_of, scratch.v_of, scratch.stretch, scratch.rate
+    phi_dofs, phi, residual = scratch.phi_dofs, scratch.phi, scratch.residual
+    n = shared.mass.shape[0]
+    for p in range(shared.head_dof.shape[0]):
         for e in range(2):
-            j = runs.path_nodes[b, p, step, e]
-            dj = work.delta[j, b]
+            j = path_nodes[b, p, step, e]
+            dj = delta[j, b]
             for k in range(n_phi):
-                dj -= s * influence(j, sc.phi_dofs[k], n, sh.column_of, sh.columns, sh.pantograph_inverse) * sc.phi[k]
-            sc.u_of[j] = state.u[j, b] + dj
-            sc.v_of[j] = state.v[j, b] + a1 * dj
-    for i in range(pan.u_pred.shape[0]):
-        di = pan.delta_lin[i]
+                dj -= s * influence(j, phi_dofs[k], n, column_of, columns, pantograph_inverse) * phi[k]
+            u_of[j] = u_pred[j, b] + dj
+            v_of[j] = v_pred[j, b] + a1 * dj
+    p_pred, pv_pred, p_delta_lin = pan.u_pred, pan.v_pred, pan.delta_lin
+    base_stretch, base_rate, linear_stretch = drop.stretch, drop.rate, drop.linear
+    for i in range(p_pred.shape[0]):
+        di = p_delta_lin[i]
         for k in range(n_phi):
-            if sc.phi_dofs[k] >= n:
-                di -= s * sh.pantograph_inverse[i, sc.phi_dofs[k] - n] * sc.phi[k]
-        sc.u_of[n + i] = pan.u_pred[i] + di
-        sc.v_of[n + i] = pan.v_pred[i] + a1 * di
-    n_d = drop.linear.shape[0]
+            if phi_dofs[k] >= n:
+                di -= s * pantograph_inverse[i, phi_dofs[k] - n] * phi[k]
+        u_of[n + i] = p_pred[i] + di
+        v_of[n + i] = pv_pred[i] + a1 * di
+    n_d = linear_stretch.shape[0]
     for d in range(n_d):
-        sc.stretch[d] = drop.linear[d]
+        stretch[d] = linear_stretch[d]
     for k in range(n_phi):
-        m = sc.phi_dofs[k]
+        m = phi_dofs[k]
         if m < n:
-            row = sh.column_of[m]
-            f = s * sc.phi[k]
+            row = column_of[m]
+            f = s * phi[k]
             for d in range(n_d):
-                sc.stretch[d] -= f * sh.stretch_influence[row, d]
+                stretch[d] -= f * stretch_influence[row, d]
     for d in range(n_d):
-        sc.rate[d] = drop.rate[d] + a1 * sc.stretch[d]
-        sc.stretch[d] = drop.stretch[d] + sc.stretch[d]
+        rate[d] = base_rate[d] + a1 * stretch[d]
+        stretch[d] = base_stretch[d] + stretch[d]
     count, slack = nonlinear_forces(b, step, a1, scalars, shared, runs, scratch)
     for k in range(n_phi):
-        _, count = enter_set(sc.phi_dofs[k], sc.set_dofs, sc.set_force, sc.tangent, sc.position, count)
+        _, count = enter_set(phi_dofs[k], set_dofs, set_force, tangent, position, count)
     for i in range(count):
-        sc.residual[i] = s * sc.set_force[i]
+        residual[i] = s * set_force[i]
     for k in range(n_phi):
-        sc.residual[sc.position[sc.phi_dofs[k]]] -= s * sc.phi[k]
+        residual[position[phi_dofs[k]]] -= s * phi[k]
     largest = 0.0
     for i in range(count):
-        largest = max(largest, abs(sc.residual[i]))
+        largest = max(largest, abs(residual[i]))
     return count, slack, largest
 
 
@@ -341,48 +365,53 @@ def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out
     R = s f0 − g everywhere gives r_(n+1) = C ṽ + K ũ + f0: sweep 3 forms (rhs + R − M a)/s, so rhs
     becomes s (C ṽ + K ũ) here and R = s f0 on the set.
     """
-    c, sh, sc = scalars.scheme, shared, scratch
+    c = scalars.scheme
     s = c.s
-    n = sh.mass.shape[0]
-    n_p = sh.pantograph_mass.shape[0]
+    column_of, inverse, pantograph_mass = shared.column_of, shared.pantograph_inverse, shared.pantograph_mass
+    set_dofs, set_force, position, residual = scratch.set_dofs, scratch.set_force, scratch.position, scratch.residual
+    phi_dofs, phi, contact_now = scratch.phi_dofs, scratch.phi, scratch.contact_now
+    rhs, delta, pantograph_r = state.r, work.delta, state.pantograph_r
+    u_pred, v_pred, p_rhs, p_linear, delta_lin = pan.u_pred, pan.v_pred, pan.rhs, pan.linear, pan.delta_lin
+    n = shared.mass.shape[0]
+    n_p = pantograph_mass.shape[0]
     if taken == 0:
-        linear_column(b, scalars, shared, state, work.delta)
+        linear_column(b, scalars, shared, state, delta)
         for j in range(n):
-            state.r[j, b] = s * work.delta[j, b]
-            work.delta[j, b] = 0.0
+            rhs[j, b] = s * delta[j, b]
+            delta[j, b] = 0.0
         for i in range(n_p):
-            pan.delta_lin[i] = 0.0
+            delta_lin[i] = 0.0
         for i in range(count):
-            sc.residual[i] = s * sc.set_force[i]
+            residual[i] = s * set_force[i]
     e = 0
     for k in range(n_phi):
-        m = sc.phi_dofs[k]
+        m = phi_dofs[k]
         if m < n:
-            work.phi_column[b, e] = sh.column_of[m]
-            work.phi_coefficient[b, e] = s * sc.phi[k]
+            work.phi_column[b, e] = column_of[m]
+            work.phi_coefficient[b, e] = s * phi[k]
             e += 1
         else:
             for i in range(n_p):
-                pan.delta_lin[i] -= s * sh.pantograph_inverse[i, m - n] * sc.phi[k]
+                delta_lin[i] -= s * inverse[i, m - n] * phi[k]
     work.phi_count[b] = e
     for i in range(n_p):
-        ai = c.a0 * pan.delta_lin[i]
-        state.pantograph_u[i, b] = pan.u_pred[i] + pan.delta_lin[i]
+        ai = c.a0 * delta_lin[i]
+        state.pantograph_u[i, b] = u_pred[i] + delta_lin[i]
         state.pantograph_a[i, b] = ai
-        state.pantograph_v[i, b] = pan.v_pred[i] + c.velocity_update * ai
+        state.pantograph_v[i, b] = v_pred[i] + c.velocity_update * ai
         if taken == 0:
-            state.pantograph_r[i, b] = pan.linear[i]
+            pantograph_r[i, b] = p_linear[i]
         else:
-            state.pantograph_r[i, b] = (pan.rhs[i] - sh.pantograph_mass[i] * ai) / s
+            pantograph_r[i, b] = (p_rhs[i] - pantograph_mass[i] * ai) / s
     for i in range(count):
-        j = sc.set_dofs[i]
-        sc.position[j] = -1
+        j = set_dofs[i]
+        position[j] = -1
         if j < n:
-            state.r[j, b] += sc.residual[i]
+            rhs[j, b] += residual[i]
         else:
-            state.pantograph_r[j - n, b] += sc.residual[i] / s
-    for p in range(sh.head_dof.shape[0]):
-        out.contact_force[b, p, step] = sc.contact_now[p]
+            pantograph_r[j - n, b] += residual[i] / s
+    for p in range(shared.head_dof.shape[0]):
+        out.contact_force[b, p, step] = contact_now[p]
     out.slack_max[b] = max(out.slack_max[b], slack)
 
 

@@ -165,31 +165,34 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
 def start_step(step, runs, out, work):
     """The number of leading runs the step must sweep (0: all have stopped), their force scale and
     residual at the predictor reset."""
+    n_steps, status, scale, first_residual = runs.n_steps, out.status, work.scale, work.first_residual
     active = 0
-    for b in range(runs.n_steps.shape[0]):
-        if runs.n_steps[b] >= step and out.status[b] == STATUS_RUNNING:
+    for b in range(n_steps.shape[0]):
+        if n_steps[b] >= step and status[b] == STATUS_RUNNING:
             active = b + 1
     for b in range(active):
-        work.scale[b] = 0.0
-        work.first_residual[b] = 0.0
+        scale[b] = 0.0
+        first_residual[b] = 0.0
     return active
 
 
 @kernel_function
 def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch):
     """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others)."""
+    n_steps, status, phi_count = runs.n_steps, out.status, work.phi_count
     for b in range(active):
-        work.phi_count[b] = 0
-        if out.status[b] == STATUS_RUNNING and runs.n_steps[b] >= step:
+        phi_count[b] = 0
+        if status[b] == STATUS_RUNNING and n_steps[b] >= step:
             newton_step(b, step, scalars, shared, runs, state, out, work, scratch)
 
 
 @kernel_function
 def finish_step(step, active, runs, out):
     """Mark the runs whose last step this was as finished."""
+    n_steps, status = runs.n_steps, out.status
     for b in range(active):
-        if out.status[b] == STATUS_RUNNING and runs.n_steps[b] == step:
-            out.status[b] = STATUS_OK
+        if status[b] == STATUS_RUNNING and n_steps[b] == step:
+            status[b] = STATUS_OK
 
 
 @kernel_function
