@@ -22,7 +22,6 @@ from presag_opt import contact_force
 from presag_opt.errors import ModelError
 from presag_opt.system.quantity import quantity, validate_fields
 
-
 FORCE_LEVEL_SPACING = 50.0
 """Spacing of the elasticity force levels (the paper: "three force steps of 50 N"). [N]"""
 

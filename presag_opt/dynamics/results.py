@@ -365,7 +365,7 @@ class BatchResult:
 
     def to_dict(self) -> dict:
         """All runs as the ``--json`` output of ``presag simulate`` with several operating points."""
-        keys = dict(catenary=self.catenary_name, pantograph=self.pantograph_names)
+        keys = {"catenary": self.catenary_name, "pantograph": self.pantograph_names}
         return {
             "catenary": self.catenary_name,
             "pantographs": list(self.pantograph_names),
