@@ -16,6 +16,7 @@ PACKAGE = Path(presag_opt.__file__).parent
 
 LAYERS = {
     "errors": 0,
+    "contact_force": 0,
     "native": 1,
     "speed": 1,
     "processes": 1,

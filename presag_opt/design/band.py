@@ -18,15 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from presag_opt import contact_force
 from presag_opt.errors import ModelError
 from presag_opt.system.quantity import quantity, validate_fields
-
 
 FORCE_LEVEL_SPACING = 50.0
 """Spacing of the elasticity force levels (the paper: "three force steps of 50 N"). [N]"""
 
-KMH = 1.0 / 3.6
-"""One km/h in m/s. [m/s]"""
+KMH = contact_force.KMH  # one km/h in m/s, defined once in presag_opt.contact_force [m/s]
 
 
 def mean_contact_force(
@@ -63,7 +62,7 @@ def mean_contact_force(
         if not np.all(np.isfinite(values)) or np.any(values < 0.0):
             bad = values.ravel()[~(np.isfinite(values.ravel()) & (values.ravel() >= 0.0))][0]
             raise ModelError(f"{name} = {bad:g} {unit} is outside the valid range [0, ∞) {unit} (finite)")
-    return static_force + aero_coefficient * np.square(speed)
+    return contact_force.mean_contact_force(static_force, speed, aero_coefficient)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -20,17 +20,17 @@ from __future__ import annotations
 
 import time as wallclock
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
+from presag_opt.contact_force import KMH
 from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.results import BatchResult, RunOutcome
 from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.dynamics.statistics import (
-    ContactForceStatistics,
     contact_force_statistics,
 )
 from presag_opt.dynamics.structure import structural_model
@@ -41,152 +41,6 @@ BATCH_SIZE = 16
 """Runs advanced together by the compiled kernel: enough to vectorise across runs and to hide the
 latency of the banded substitutions, few enough that the working arrays (about 14 × n_dofs doubles
 per run) stay close to the processor. [-]"""
-
-
-@dataclass(frozen=True, kw_only=True)
-class RunOutcome:
-    """Result of one run of a batch: its statistics, or the reason it failed.
-
-    Attributes
-    ----------
-    point : OperatingPoint
-        The operating point.
-    statistics : tuple of ContactForceStatistics
-        Contact-force statistics of each pantograph, front to rear; empty if the run failed.
-    uplift_max : float
-        Largest contact-wire uplift at a steady arm / support of the analysed section; NaN if the
-        run failed. [m]
-    slack_droppers_max : int
-        Most droppers of the analysed section slack at the same time. [-]
-    speed_ratio : float
-        β = v / c. [-]
-    doppler_factor : float
-        (c − v)/(c + v). [-]
-    wave_speed : float
-        Contact-wire wave speed. [m/s]
-    analysed_spans : tuple of int
-        Spans (from 0) of the analysed section. [-]
-    analysed_section : tuple of float
-        Stations where the analysed section starts and ends. [m]
-    newton_iterations : int
-        Newton corrections over the whole run. [-]
-    wall_time : float
-        The run's share of the wall-clock time of the kernel call it ran in (that call's time
-        divided by its runs). [s]
-    time_step : float
-        The run's time step. [s]
-    warnings : tuple of str
-        One line per numerical setting that under-resolves the run.
-    error : str or None
-        Why the run failed (one line), None if it finished.
-    time : ndarray or None
-        Record times, kept with ``keep_histories``. [s]
-    contact_force : ndarray or None
-        Raw contact force of each pantograph, shape (n_times, n_pantographs), kept with
-        ``keep_histories``. [N]
-    """
-
-    point: OperatingPoint
-    statistics: tuple[ContactForceStatistics, ...]
-    uplift_max: float
-    slack_droppers_max: int
-    speed_ratio: float
-    doppler_factor: float
-    wave_speed: float
-    analysed_spans: tuple[int, ...]
-    analysed_section: tuple[float, float]
-    newton_iterations: int
-    wall_time: float
-    time_step: float
-    warnings: tuple[str, ...] = ()
-    error: str | None = None
-    time: np.ndarray | None = None
-    contact_force: np.ndarray | None = None
-
-    @property
-    def ok(self) -> bool:
-        """Whether the run finished."""
-        return self.error is None
-
-    def to_dict(self, *, catenary: str, pantograph: str) -> dict:
-        """Headline numbers with units in the key names: the keys of the single-run ``--json`` output.
-
-        Parameters
-        ----------
-        catenary : str
-            Catenary name.
-        pantograph : str
-            Name of the leading pantograph.
-        """
-        p = self.point
-        out = {
-            "catenary": catenary,
-            "pantograph": pantograph,
-            "speed_kmh": p.speed * 3.6,
-            "static_force_N": p.static_force,
-            "aero_force_N": p.aero_coefficient * p.speed**2,
-        }
-        if self.ok:
-            out.update(self.statistics[0].to_dict())
-            out["uplift_max_mm"] = self.uplift_max * 1e3
-        out.update({
-            "beta": self.speed_ratio,
-            "doppler_factor": self.doppler_factor,
-            "wave_speed_kmh": self.wave_speed * 3.6,
-            "analysed_spans": [s + 1 for s in self.analysed_spans],
-            "analysed_section_m": list(self.analysed_section),
-        })
-        if self.ok:
-            out["slack_droppers_max"] = self.slack_droppers_max
-        out["time_step_ms"] = self.time_step * 1e3
-        out["wall_time_s"] = self.wall_time
-        out["warnings"] = list(self.warnings)
-        if not self.ok:
-            out["error"] = self.error
-        elif len(self.statistics) > 1:
-            out["pantographs"] = [s.to_dict() for s in self.statistics]
-        return out
-
-
-@dataclass(frozen=True, kw_only=True)
-class BatchResult:
-    """Result of :func:`simulate_many`.
-
-    Attributes
-    ----------
-    catenary_name : str
-        Name of the catenary.
-    pantograph_names : tuple of str
-        Pantograph models, front to rear.
-    runs : tuple of RunOutcome
-        One per operating point, in the order given.
-    wall_time : float
-        Wall-clock time of the whole batch. [s]
-    settings : SimulationSettings
-        Settings used.
-    """
-
-    catenary_name: str
-    pantograph_names: tuple[str, ...]
-    runs: tuple[RunOutcome, ...]
-    wall_time: float
-    settings: SimulationSettings
-
-    def to_dict(self) -> dict:
-        """All runs as the ``--json`` output of ``presag simulate`` with several operating points."""
-        keys = dict(catenary=self.catenary_name, pantograph=self.pantograph_names[0])
-        return {
-            "catenary": self.catenary_name,
-            "pantographs": list(self.pantograph_names),
-            "wall_time_s": self.wall_time,
-            "failed_runs": len(self.failed),
-            "runs": [r.to_dict(**keys) for r in self.runs],
-        }
-
-    @property
-    def failed(self) -> tuple[RunOutcome, ...]:
-        """The runs that did not finish."""
-        return tuple(r for r in self.runs if not r.ok)
 
 
 def simulate_many(
@@ -278,7 +132,7 @@ def _plan(
         )
     except ModelError as exc:
         raise ModelError(
-            f"operating point {point.speed * 3.6:g} km/h, {point.static_force:g} N: {exc}"
+            f"operating point {point.speed / KMH:g} km/h, {point.static_force:g} N: {exc}"
         ) from None
 
 
@@ -292,7 +146,8 @@ def _outcome(
     common = dict(point=point, speed_ratio=plan.speed_ratio, doppler_factor=plan.doppler_factor,
                   wave_speed=plan.wave_speed, analysed_spans=plan.analysed_spans,
                   analysed_section=plan.analysed_section, newton_iterations=int(records.iterations[b]),
-                  wall_time=wall_time, time_step=dt, warnings=run_warnings(state, plan))
+                  wall_time=wall_time, time_step=dt, warnings=run_warnings(state, plan),
+                  offsets=tuple(float(x) for x in plan.operation.offsets))
     failed = dict(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, **common)
     if records.status[b] != batch_newton.STATUS_OK:
         step = int(records.fail_step[b])

@@ -17,16 +17,26 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import batch_newton, kernel
+from presag_opt.dynamics import kernel
+from presag_opt.native import sweeps as native_sweeps
+from presag_opt.dynamics.kernel_data import (
+    Records,
+    Runs,
+    RunState,
+    Scalars,
+    Shared,
+    make_scratch,
+    make_work,
+)
+from presag_opt.dynamics.laws import scheme_constants, suspension_elements
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_contact
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
-from presag_opt.native import sweeps as native_sweeps
+from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.native.banded_numba import banded_cholesky_solve
 from presag_opt.static.banded_solver import BandedSolver
-from presag_opt.static.equilibrium import EquilibriumState
 
 CHUNK_STEPS = 250
 """Time steps per call of the compiled kernel: Ctrl-C is honoured between calls. [-]"""
@@ -44,20 +54,20 @@ class BatchSystem:
     model : StructuralModel
         The catenary's structural model.
     order : ndarray of int
-        Model DOF at each banded position. [-]
+        Model DOF at each banded position.
     position : ndarray of int
-        Banded position of each model DOF. [-]
-    scalars : ndarray
-        The kernel's scalars (:data:`presag_opt.dynamics.kernel.SCALARS`). [SI]
+        Banded position of each model DOF.
+    scalars : Scalars
+        The kernel's numbers (scheme constants, Rayleigh coefficients, Newton and friction settings).
     fixed : dict
-        The kernel's shared arrays that do not depend on the batch, by name
-        (:data:`presag_opt.dynamics.kernel.SHARED`).
+        The kernel's shared arrays that do not depend on the batch, by name (fields of
+        :class:`~presag_opt.dynamics.kernel_data.Shared`).
     """
 
     model: StructuralModel
     order: np.ndarray
     position: np.ndarray
-    scalars: np.ndarray
+    scalars: Scalars
     fixed: dict
 
     @classmethod
@@ -81,9 +91,8 @@ class BatchSystem:
             If K_eff is not positive definite.
         """
         integ = settings.integrator
-        alpha = integ.hht_alpha if integ.scheme == "hht" else 0.0
-        beta, gamma, dt = (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha, integ.time_step
-        s, a0, a1 = 1.0 + alpha, 1.0 / (beta * dt**2), gamma / (beta * dt)
+        scheme = scheme_constants(integ)
+        s, a0, a1 = scheme.s, scheme.a0, scheme.a1
         effective = (a0 * model.mass + s * (model.stiffness + a1 * model.damping)).tocsc()
         effective.sort_indices()
         ordering = BandedSolver.for_pattern(effective)
@@ -103,9 +112,9 @@ class BatchSystem:
         stiffness = sp.block_diag([p.stiffness_matrix() for p in pantographs]).toarray()
         friction_dofs, friction_levels = [], []
         for p, offset in zip(pantographs, offsets):
-            for i, stage in enumerate(p.stages):
-                if stage.friction > 0.0:  # element between stage i and the stage below (or the car body)
-                    friction_dofs.append((n + offset + i, n + offset + i + 1 if i + 1 < p.n_dofs else -1))
+            for stage, (upper, lower) in zip(p.stages, suspension_elements(p.n_dofs)):
+                if stage.friction > 0.0:  # element between a stage and the stage below (or the car body)
+                    friction_dofs.append((n + offset + upper, n + offset + lower if lower >= 0 else -1))
                     friction_levels.append(stage.friction)
         d = model.droppers
         cw_height = np.zeros(n)
@@ -129,10 +138,11 @@ class BatchSystem:
             "dropper_preload": np.asarray(d.preload, dtype=float).copy(),
             "cw_height": cw_height,
         }
-        scalars = np.array([
-            model.rayleigh_alpha, model.rayleigh_beta, dt, alpha, beta, gamma, integ.tolerance,
-            integ.max_iterations, settings.friction.velocity,
-        ])
+        scalars = Scalars(
+            scheme=scheme, rayleigh_alpha=float(model.rayleigh_alpha), rayleigh_beta=float(model.rayleigh_beta),
+            tolerance=float(integ.tolerance), max_iterations=int(integ.max_iterations),
+            friction_velocity=float(settings.friction.velocity),
+        )
         return cls(model, order, position, scalars, fixed)
 
 
@@ -143,21 +153,21 @@ class BatchRecords:
     Attributes
     ----------
     n_steps : ndarray of int
-        Time steps of each run. [-]
+        Time steps of each run.
     contact_force : ndarray, shape (n_runs, n_pantographs, n_records)
         Raw contact force at every record time. [N]
     uplift_max : ndarray
         Largest uplift at the analysed section's supports. [m]
     slack_max : ndarray of int
-        Most recorded droppers slack at once. [-]
+        Most recorded droppers slack at once.
     status : ndarray of int
-        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped. [-]
+        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped.
     fail_step : ndarray of int
-        Step at which a failed run stopped. [-]
+        Step at which a failed run stopped.
     fail_residual : ndarray
         Its last Newton residual. [N]
     iterations : ndarray of int
-        Newton corrections taken. [-]
+        Newton corrections taken.
     """
 
     n_steps: np.ndarray
@@ -242,13 +252,13 @@ def integrate_batch(
         candidate_rows=candidates.astype(np.int64),
         support_row=support_row,
     )
-    shared = tuple(np.ascontiguousarray(shared[name]) for name in kernel.SHARED)  # C order, as sweeps.c reads
+    shared = Shared(**{name: np.ascontiguousarray(shared[name]) for name in Shared._fields})  # C order, as sweeps.c
     uplift = np.array([p.operation.uplift_force for p in plans])
-    runs = (n_steps, path_nodes, path_weights, path_compliance, head_height, uplift)
+    runs = Runs(n_steps=n_steps, path_nodes=path_nodes, path_weights=path_weights, path_compliance=path_compliance,
+                head_height=head_height, uplift=uplift)
     n_p = len(fixed["pantograph_mass"])
-    # u, v, q = u + β_R v, r for the catenary; u, v, a, r for the pantographs (see kernel.advance).
-    run_state = (u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
-                 *(np.zeros((n_p, n_runs)) for _ in range(4)))
+    run_state = RunState(u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
+                         *(np.zeros((n_p, n_runs)) for _ in range(4)))
     records = BatchRecords(
         n_steps=n_steps,
         contact_force=np.zeros((n_runs, n_pan, longest + 1)),
@@ -259,15 +269,14 @@ def integrate_batch(
         fail_residual=np.zeros(n_runs),
         iterations=np.zeros(n_runs, dtype=np.int64),
     )
-    out = (records.contact_force, records.uplift_max, records.slack_max, records.status, records.fail_step,
-           records.fail_residual, records.iterations)
-    scratch = batch_newton.make_scratch(shared)
-    work = kernel.make_work(shared, n_runs, lanes)
+    out = Records(*(getattr(records, name) for name in Records._fields))
+    scratch = make_scratch(shared)
+    work = make_work(shared, n_runs, lanes)
+    c_sweeps = native_sweeps.sweeps()
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
-    advance = native_sweeps.advance if compiled else kernel.advance
     for first in range(1, longest + 1, CHUNK_STEPS):
-        advance(first, min(first + CHUNK_STEPS - 1, longest), system.scalars, shared, runs, run_state, out, work,
-                scratch)
+        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, c_sweeps, system.scalars, shared, runs,
+                       run_state, out, work, scratch)
     return records
 
 

@@ -35,7 +35,6 @@ doi:10.1002/eqe.4290050306. W. W. Hager, "Updating the inverse of a matrix", SIA
 from __future__ import annotations
 
 import time as wallclock
-from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
@@ -44,17 +43,23 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from presag_opt.dynamics.laws import scheme_constants
+from presag_opt.dynamics.newton import (
+    NO_FORCE,
+    EquationOfMotion,
+    FactorisedSolver,
+    NonlinearForce,
+    NonlinearForceFunction,
+    ReferenceSolver,
+    StepTerms,
+    full_residual,
+    norm,
+)
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.system.quantity import quantity, validate_fields
 
 SCHEMES = ("newmark", "hht")
 METHODS = ("fast", "reference")
-
-COLUMN_CACHE_SIZE = 256
-"""Columns of K_eff⁻¹ kept by the fast path: enough for the pantograph DOFs and the wire nodes a
-pantograph passes over in many steps, small enough (2 MB per 1000 DOFs) for long models. [-]"""
-
 
 @dataclass(frozen=True, kw_only=True)
 class IntegratorSettings:
@@ -92,56 +97,6 @@ class IntegratorSettings:
             raise ModelError(f"method = {self.method!r} is not one of {', '.join(map(repr, METHODS))}")
         if self.max_iterations != int(self.max_iterations):
             raise ModelError(f"max_iterations = {self.max_iterations!r} is not a whole number")
-
-
-@dataclass(frozen=True)
-class NonlinearForce:
-    """Nonlinear internal forces on a few DOFs and their tangent, as returned by the force callback.
-
-    Attributes
-    ----------
-    dofs : numpy.ndarray
-        Global DOF indices (int) the forces act on; repeated indices add up. [-]
-    force : numpy.ndarray
-        Force on each of ``dofs``, on the left-hand side of the equation of motion. [N]
-    stiffness : numpy.ndarray
-        ∂force/∂u[dofs], shape (k, k). [N/m]
-    damping : numpy.ndarray or None
-        ∂force/∂v[dofs], shape (k, k); None when the force does not depend on velocity. [N·s/m]
-    """
-
-    dofs: np.ndarray
-    force: np.ndarray
-    stiffness: np.ndarray
-    damping: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        k = len(self.dofs)
-        if np.shape(self.force) != (k,) or np.shape(self.stiffness) != (k, k):
-            raise ModelError(
-                f"nonlinear force: {k} dofs need force of shape ({k},) and stiffness of shape ({k}, {k}), "
-                f"got {np.shape(self.force)} and {np.shape(self.stiffness)}"
-            )
-        if self.damping is not None and np.shape(self.damping) != (k, k):
-            raise ModelError(f"nonlinear force: damping must have shape ({k}, {k}), got {np.shape(self.damping)}")
-
-    def tangent(self, a1: float) -> np.ndarray:
-        """Newton tangent ∂force/∂u + a1 ∂force/∂v. [N/m]
-
-        Parameters
-        ----------
-        a1 : float
-            ∂v/∂u of the scheme, γ/(β Δt). [1/s]
-        """
-        return self.stiffness if self.damping is None else self.stiffness + a1 * self.damping
-
-
-NO_FORCE = NonlinearForce(dofs=np.zeros(0, dtype=int), force=np.zeros(0), stiffness=np.zeros((0, 0)))
-"""A nonlinear force that is zero everywhere."""
-
-NonlinearForceFunction = Callable[[np.ndarray, np.ndarray, float], NonlinearForce]
-"""``f(u [m], v [m/s], t [s]) -> NonlinearForce`` over the full DOF vectors."""
-
 
 @dataclass(frozen=True, kw_only=True)
 class State:
@@ -203,199 +158,6 @@ class IntegrationResult:
         """Integration speed. [1/s]"""
         return len(self.iterations) / max(self.wall_time, 1e-12)
 
-
-@dataclass(frozen=True)
-class _Coefficients:
-    """Newmark/HHT constants for one time step."""
-
-    dt: float
-    alpha: float
-    beta: float
-    gamma: float
-
-    @classmethod
-    def of(cls, settings: IntegratorSettings) -> _Coefficients:
-        alpha = settings.hht_alpha if settings.scheme == "hht" else 0.0
-        return cls(settings.time_step, alpha, (1.0 - alpha) ** 2 / 4.0, 0.5 - alpha)
-
-    @property
-    def s(self) -> float:
-        return 1.0 + self.alpha
-
-    @property
-    def a0(self) -> float:
-        return 1.0 / (self.beta * self.dt**2)
-
-    @property
-    def a1(self) -> float:
-        return self.gamma / (self.beta * self.dt)
-
-
-@dataclass
-class _System:
-    """The equation of motion and the scheme constants."""
-
-    mass: sp.csr_matrix
-    damping: sp.csr_matrix
-    stiffness: sp.csr_matrix
-    external_force: Callable[[float], np.ndarray]
-    nonlinear_force: NonlinearForceFunction
-    c: _Coefficients
-
-    def effective_matrix(self) -> sp.csc_matrix:
-        """K_eff = a0 M + s (K + a1 C). [N/m]"""
-        c = self.c
-        return (c.a0 * self.mass + c.s * (self.stiffness + c.a1 * self.damping)).tocsc()
-
-    def inertia(self, a: np.ndarray) -> np.ndarray:
-        """M a; elementwise for a lumped (diagonal) mass matrix. [N]"""
-        diagonal = self.__dict__.get("_mass_diagonal")
-        if diagonal is None:
-            is_diagonal = self.mass.nnz == np.count_nonzero(self.mass.diagonal()) and sp.triu(self.mass, 1).nnz == 0 \
-                and sp.tril(self.mass, -1).nnz == 0
-            diagonal = self.mass.diagonal() if is_diagonal else False
-            self.__dict__["_mass_diagonal"] = diagonal
-        return diagonal * a if diagonal is not False else self.mass @ a
-
-    def internal_force(self, u: np.ndarray, v: np.ndarray, nl: NonlinearForce) -> np.ndarray:
-        """r = C v + K u + f_nl. [N]"""
-        r = self.damping @ v + self.stiffness @ u
-        np.add.at(r, nl.dofs, nl.force)
-        return r
-
-
-@dataclass
-class _Step:
-    """Quantities fixed during one step: predictors, external force and the right-hand side."""
-
-    time: float
-    u_pred: np.ndarray
-    v_pred: np.ndarray
-    forcing: np.ndarray
-    rhs: np.ndarray
-
-    def kinematics(self, u: np.ndarray, c: _Coefficients) -> tuple[np.ndarray, np.ndarray]:
-        """Acceleration and velocity that go with the displacement ``u``. [m/s²], [m/s]"""
-        a = c.a0 * (u - self.u_pred)
-        return a, self.v_pred + c.gamma * c.dt * a
-
-
-def _full_residual(system: _System, step: _Step, u: np.ndarray, nl: NonlinearForce) -> tuple[np.ndarray, float]:
-    """Residual R(u) and the size of the largest force term in it. [N], [N]"""
-    c = system.c
-    a, v = step.kinematics(u, c)
-    inertia = system.inertia(a)
-    internal = c.s * system.internal_force(u, v, nl)
-    scale = max(_norm(inertia), _norm(internal), _norm(step.rhs))
-    return inertia + internal - step.rhs, scale
-
-
-def _norm(x: np.ndarray) -> float:
-    return float(np.max(np.abs(x))) if x.size else 0.0
-
-
-SPARSE_RIGHT_HAND_SIDE = 32
-"""A right-hand side with at most this many nonzeros is solved from cached K_eff⁻¹ columns. [-]"""
-
-
-class _FactorisedSolver:
-    """Newton corrections with K_eff factorised once and the tangent added by Woodbury's identity."""
-
-    def __init__(self, system: _System):
-        self._system = system
-        # K_eff is symmetric positive definite and, ordered along the track, banded: the shared
-        # RCM + banded Cholesky solver (SuperLU if it is not positive definite).
-        matrix = sp.csc_matrix(system.effective_matrix())
-        matrix.sort_indices()
-        try:
-            self._lu = BandedSolver.for_pattern(matrix).factorise(matrix.data)
-        except RuntimeError:
-            raise ModelError("the effective matrix a0 M + s (K + a1 C) is singular: check the model") from None
-        self._size = matrix.shape[0]
-        self._columns: OrderedDict[int, np.ndarray] = OrderedDict()
-
-    def correction(self, rhs: np.ndarray, dofs: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-        """Solve (K_eff + E T Eᵀ) δ = rhs, with T = s·tangent on ``dofs``. [m]"""
-        loaded = np.flatnonzero(rhs)
-        if len(loaded) <= SPARSE_RIGHT_HAND_SIDE:
-            # After a step's first correction the residual lives on the nonlinear DOFs only.
-            x = self._inverse_columns(loaded) @ rhs[loaded]
-        else:
-            x = self._lu.solve(rhs)
-        if len(dofs) == 0:
-            return x
-        z = self._inverse_columns(dofs)
-        t = self._system.c.s * tangent
-        capacitance = np.eye(len(dofs)) + t @ z[dofs, :]
-        try:
-            y = np.linalg.solve(capacitance, t @ x[dofs])
-        except np.linalg.LinAlgError:
-            raise ConvergenceError("singular Newton matrix: the nonlinear tangent cancels K_eff") from None
-        return x - z @ y
-
-    def next_residual(
-        self,
-        step: _Step,
-        u: np.ndarray,
-        old: NonlinearForce,
-        new: NonlinearForce,
-        tangent: np.ndarray,
-        delta: np.ndarray,
-    ) -> np.ndarray:
-        """Residual after a correction: the exact linear part cancels, so only f_nl's change is left.
-
-        R(u + δ) = R(u) + K_eff δ + s (f_nl,new - f_nl,old) and the correction made
-        K_eff δ = -R(u) - s T δ[dofs], so R(u + δ) = s (f_nl,new - f_nl,old - T δ[dofs]).
-        """
-        r = np.zeros_like(u)
-        np.add.at(r, new.dofs, new.force)
-        np.add.at(r, old.dofs, -old.force - tangent @ delta[old.dofs])
-        return self._system.c.s * r
-
-    def _inverse_columns(self, dofs: np.ndarray) -> np.ndarray:
-        """Columns K_eff⁻¹ e_j for j in ``dofs``, computed once and kept while recently used. [m/N]"""
-        missing = [int(j) for j in dict.fromkeys(dofs.tolist()) if j not in self._columns]
-        if missing:
-            unit = np.zeros((self._size, len(missing)))
-            unit[missing, range(len(missing))] = 1.0
-            for j, column in zip(missing, self._lu.solve(unit).T):
-                self._columns[j] = column
-        for j in dofs.tolist():
-            self._columns.move_to_end(j)
-        while len(self._columns) > COLUMN_CACHE_SIZE:
-            self._columns.popitem(last=False)
-        return np.column_stack([self._columns[j] for j in dofs.tolist()])
-
-
-class _ReferenceSolver:
-    """Newton corrections by assembling and factorising the full Newton matrix every iteration."""
-
-    def __init__(self, system: _System):
-        self._system = system
-
-    def correction(self, rhs: np.ndarray, dofs: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-        """Solve (K_eff + s E T Eᵀ) δ = rhs by a fresh sparse LU factorisation. [m]"""
-        n = len(rhs)
-        rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
-        update = sp.coo_matrix((self._system.c.s * tangent.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
-        try:
-            return splu((self._system.effective_matrix() + update).tocsc()).solve(rhs)
-        except RuntimeError as exc:
-            raise ConvergenceError(f"singular Newton matrix ({exc})") from None
-
-    def next_residual(
-        self,
-        step: _Step,
-        u: np.ndarray,
-        old: NonlinearForce,
-        new: NonlinearForce,
-        tangent: np.ndarray,
-        delta: np.ndarray,
-    ) -> np.ndarray:
-        """Full residual at the new iterate. [N]"""
-        return _full_residual(self._system, step, u, new)[0]
-
-
 def integrate(
     mass: sp.spmatrix,
     damping: sp.spmatrix,
@@ -427,7 +189,7 @@ def integrate(
         State at ``t = 0``; at rest (all zero) if not given. A missing acceleration is computed from
         the equation of motion, which needs a non-singular mass matrix.
     record_dofs : sequence of int, optional
-        DOFs whose histories are kept; all DOFs if not given (mind the memory for large models). [-]
+        DOFs whose histories are kept; all DOFs if not given (mind the memory for large models).
     observe : callable, optional
         ``observe(t [s], u [m], v [m/s]) -> (m,) array`` evaluated at every record time, e.g. the
         contact force. [as returned]
@@ -449,7 +211,7 @@ def integrate(
     system = _build_system(mass, damping, stiffness, external_force, nonlinear_force, settings)
     n = system.mass.shape[0]
     n_steps = step_count(duration, settings.time_step)
-    solver = _FactorisedSolver(system) if settings.method == "fast" else _ReferenceSolver(system)
+    solver = FactorisedSolver(system) if settings.method == "fast" else ReferenceSolver(system)
     u, v, a, internal = _initial_state(system, initial_state, n)
     dofs = np.arange(n) if record_dofs is None else np.asarray(record_dofs, dtype=int)
     recorder = _Recorder(n_steps, dofs, observe)
@@ -476,18 +238,18 @@ def _build_system(
     external_force: Callable[[float], np.ndarray] | None,
     nonlinear_force: NonlinearForceFunction | None,
     settings: IntegratorSettings,
-) -> _System:
+) -> EquationOfMotion:
     matrices = [sp.csr_matrix(m, dtype=float) for m in (mass, damping, stiffness)]
     n = matrices[0].shape[0]
     for name, m in zip(("mass", "damping", "stiffness"), matrices):
         if m.shape != (n, n):
             raise ModelError(f"{name} matrix has shape {m.shape}; all three must be square and {n} x {n}")
     zero = np.zeros(n)
-    return _System(
+    return EquationOfMotion(
         *matrices,
         external_force=external_force or (lambda t: zero),
         nonlinear_force=nonlinear_force or (lambda u, v, t: NO_FORCE),
-        c=_Coefficients.of(settings),
+        c=scheme_constants(settings),
     )
 
 
@@ -499,7 +261,7 @@ def step_count(duration: float, time_step: float) -> int:
 
 
 def _initial_state(
-    system: _System, state: State | None, n: int
+    system: EquationOfMotion, state: State | None, n: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Initial u [m], v [m/s], a [m/s²] and internal force r = C v + K u + f_nl [N].
 
@@ -519,32 +281,32 @@ def _initial_state(
 
 
 def _predict(
-    system: _System, u: np.ndarray, v: np.ndarray, a: np.ndarray, internal: np.ndarray, force: np.ndarray, t_next: float
-) -> _Step:
+    system: EquationOfMotion, u: np.ndarray, v: np.ndarray, a: np.ndarray, internal: np.ndarray, force: np.ndarray, t_next: float
+) -> StepTerms:
     """Predictors ũ, ṽ and the right-hand side s f_(n+1) - α f_n + α r_n of the step to ``t_next``."""
     c = system.c
     forcing = np.asarray(system.external_force(t_next), dtype=float)
     rhs = c.s * forcing - c.alpha * force + c.alpha * internal if c.alpha else forcing
-    return _Step(
+    return StepTerms(
         time=t_next,
-        u_pred=u + c.dt * v + c.dt**2 * (0.5 - c.beta) * a,
-        v_pred=v + c.dt * (1.0 - c.gamma) * a,
+        u_pred=u + c.time_step * v + c.displacement_predictor * a,
+        v_pred=v + c.velocity_predictor * a,
         forcing=forcing,
         rhs=rhs,
     )
 
 
 def _solve_step(
-    system: _System, solver: _FactorisedSolver | _ReferenceSolver, step: _Step, settings: IntegratorSettings, index: int
+    system: EquationOfMotion, solver: FactorisedSolver | ReferenceSolver, step: StepTerms, settings: IntegratorSettings, index: int
 ) -> tuple[np.ndarray, NonlinearForce, int, np.ndarray]:
     """Newton iteration for u_(n+1), starting from the predictor ũ. Returns u, f_nl, iterations and
     the final residual."""
     c = system.c
     u = step.u_pred
     nl = system.nonlinear_force(u, step.v_pred, step.time)
-    residual, scale = _full_residual(system, step, u, nl)
+    residual, scale = full_residual(system, step, u, nl)
     limit = settings.tolerance * scale
-    history = [_norm(residual)]
+    history = [norm(residual)]
     for iteration in range(settings.max_iterations + 1):
         if history[-1] <= limit:
             return u, nl, iteration, residual
@@ -556,7 +318,7 @@ def _solve_step(
         new = system.nonlinear_force(u, step.kinematics(u, c)[1], step.time)
         residual = solver.next_residual(step, u, nl, new, tangent, delta)
         nl = new
-        history.append(_norm(residual))
+        history.append(norm(residual))
     raise ConvergenceError(
         f"Newton iteration did not converge in step {index + 1} (t = {step.time:.6g} s): residual "
         f"{history[-1]:.3g} N after {len(history) - 1} corrections, tolerance {limit:.3g} N",

@@ -31,41 +31,19 @@ then the pantographs' DOFs, n … n + n_p − 1.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from presag_opt.native import sweeps as native
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
     newton_step,
     nonlinear_forces,
 )
+from presag_opt.dynamics.jit import kernel_function
 from presag_opt.native.banded_numba import backward_substitution
 
-SHARED = (
-    "stiffness_band", "factor_band", "mass", "pantograph_mass", "pantograph_damping", "pantograph_stiffness",
-    "pantograph_inverse", "column_of", "columns", "head_dof", "contact_stiffness", "friction_dofs",
-    "friction_levels", "dropper_dofs", "dropper_gradient", "dropper_stiffness", "dropper_preload",
-    "dropper_recorded", "support_dofs", "cw_height", "stretch_influence", "candidate_index", "candidate_rows",
-    "support_row",
-)
-"""The arrays all runs share, in the order of the kernel's ``shared`` tuple (catenary DOFs in banded
-order, pantograph DOFs after them): K and the Cholesky factor of K_eff by rows, band[j, k] = A[j + k, j]
-[N/m, sqrt(N/m)]; lumped masses [kg]; the pantographs' M, C, K and K_eff⁻¹; the row of ``columns``
-(K_eff⁻¹ e_j, [m/N]) for each DOF, −1 if none; each head's DOF and contact stiffness [N/m]; friction
-elements (upper DOF, lower DOF or −1 for the car body) and levels [N]; dropper DOFs (6 each), stretch
-gradients, axial stiffness [N/m], preload [N] and whether recorded; the supports of the analysed
-section; static contact-wire height per DOF [m]; each dropper's stretch per unit force at each column
-[m/N]; for each row, its place among the rows a nonlinear force can reach (−1 if none), and their
-list; whether a row is a support of the analysed section."""
 
-SCALARS = (
-    "rayleigh_alpha", "rayleigh_beta", "time_step", "hht_alpha", "newmark_beta", "newmark_gamma", "tolerance",
-    "max_iterations", "friction_velocity",
-)
-"""The kernel's ``scalars`` array: α_R [1/s], β_R [s], Δt [s], HHT α, Newmark β and γ, Newton tolerance,
-iteration limit, friction regularisation velocity [m/s]."""
-
-@njit(cache=True)
+@kernel_function
 def band_matvec(band, x, out, runs):
     """out[:, :runs] = A x[:, :runs]; A symmetric, stored by its lower band, band[j, k] = A[j + k, j].
 
@@ -91,7 +69,7 @@ def band_matvec(band, x, out, runs):
             out[j, b] = acc[b]
 
 
-@njit(cache=True)
+@kernel_function
 def initialise(scalars, shared, runs, state, out, scratch):
     """The static contact state at rest (t = 0), its records, and the predictors of step 1.
 
@@ -99,59 +77,53 @@ def initialise(scalars, shared, runs, state, out, scratch):
     the contact forces, slack droppers and support uplifts of the first record. At rest the
     predictors of step 1 are ũ = u, ṽ = 0 (see :func:`advance` for what the arrays hold).
     """
-    rayleigh_beta, hht_alpha, friction_velocity = scalars[1], scalars[3], scalars[8]
-    stiffness_band, mass, pantograph_stiffness = shared[0], shared[2], shared[5]
-    head_dof, dropper_dofs, dropper_gradient, support_dofs = shared[9], shared[13], shared[14], shared[18]
-    u, v, q, r, pantograph_u, _, _, pantograph_r = state
-    contact_force, uplift_max, slack_max, status, _, _, iterations = out
-    set_dofs, set_force, position, contact_now = scratch[0], scratch[1], scratch[3], scratch[4]
-    u_of, v_of, stretch, rate = scratch[6], scratch[7], scratch[8], scratch[9]
-    n = mass.shape[0]
-    n_p = pantograph_stiffness.shape[0]
-    n_runs = runs[0].shape[0]
-    band_matvec(stiffness_band, u, r, n_runs)
-    rate[:] = 0.0
-    v_of[:] = 0.0
+    sh, sc = shared, scratch
+    u, v, q, r = state.u, state.v, state.q, state.r
+    n = sh.mass.shape[0]
+    n_p = sh.pantograph_stiffness.shape[0]
+    n_runs = runs.n_steps.shape[0]
+    band_matvec(sh.stiffness_band, u, r, n_runs)
+    sc.rate[:] = 0.0
+    sc.v_of[:] = 0.0
     for b in range(n_runs):
         for i in range(n_p):
             acc = 0.0
             for k in range(n_p):
-                acc += pantograph_stiffness[i, k] * pantograph_u[k, b]
-            pantograph_r[i, b] = acc
-            u_of[n + i] = pantograph_u[i, b]
+                acc += sh.pantograph_stiffness[i, k] * state.pantograph_u[k, b]
+            state.pantograph_r[i, b] = acc
+            sc.u_of[n + i] = state.pantograph_u[i, b]
         for j in range(n):
-            u_of[j] = u[j, b]
-        for d in range(dropper_dofs.shape[0]):
+            sc.u_of[j] = u[j, b]
+        for d in range(sh.dropper_dofs.shape[0]):
             acc = 0.0
             for c in range(6):
-                acc += dropper_gradient[d, c] * u[dropper_dofs[d, c], b]
-            stretch[d] = acc
-        count, slack = nonlinear_forces(b, 0, 0.0, rayleigh_beta, friction_velocity, u_of, v_of, stretch, rate, shared,
-                                 runs, scratch)
+                acc += sh.dropper_gradient[d, c] * u[sh.dropper_dofs[d, c], b]
+            sc.stretch[d] = acc
+        count, slack = nonlinear_forces(b, 0, 0.0, scalars, shared, runs, scratch)
         for i in range(count):
-            j = set_dofs[i]
-            position[j] = -1
+            j = sc.set_dofs[i]
+            sc.position[j] = -1
             if j < n:
-                r[j, b] += set_force[i]
+                r[j, b] += sc.set_force[i]
             else:
-                pantograph_r[j - n, b] += set_force[i]
-        for p in range(head_dof.shape[0]):
-            contact_force[b, p, 0] = contact_now[p]
-        slack_max[b] = slack
-        uplift_max[b] = -np.inf
-        for i in range(support_dofs.shape[0]):
-            uplift_max[b] = max(uplift_max[b], u[support_dofs[i], b])
-        status[b] = STATUS_RUNNING
-        iterations[b] = 0
+                state.pantograph_r[j - n, b] += sc.set_force[i]
+        for p in range(sh.head_dof.shape[0]):
+            out.contact_force[b, p, 0] = sc.contact_now[p]
+        out.slack_max[b] = slack
+        out.uplift_max[b] = -np.inf
+        for i in range(sh.support_dofs.shape[0]):
+            out.uplift_max[b] = max(out.uplift_max[b], u[sh.support_dofs[i], b])
+        out.status[b] = STATUS_RUNNING
+        out.iterations[b] = 0
     for j in range(n):
         for b in range(n_runs):
             v[j, b] = 0.0
             q[j, b] = u[j, b]
-            r[j, b] = hht_alpha * r[j, b]
+            r[j, b] = scalars.scheme.alpha * r[j, b]
 
 
-@njit(cache=True)
-def advance(first_step, last_step, scalars, shared, runs, state, out, work, scratch):
+@kernel_function
+def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, state, out, work, scratch):
     """Advance every running run from record ``first_step − 1`` to record ``last_step``.
 
     Runs are sorted by step count, longest first, so the runs still going form a prefix of the
@@ -166,27 +138,34 @@ def advance(first_step, last_step, scalars, shared, runs, state, out, work, scra
     next step's predictors (:func:`update_sweep`). The step's force scale and residual at the
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
     run by run on the others (:func:`~presag_opt.dynamics.batch_newton.newton_step`).
-    :func:`presag_opt.dynamics.native_sweeps.advance` is this loop with the sweeps in compiled C.
+
+    The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
+    function pointers ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments,
+    same numbers to the last bit; the catenary's run arrays padded to whole blocks of lanes).
     """
-    factor_band = shared[1]
-    delta = work[0]
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
         if active == 0:
             break
-        forward_sweep(scalars, shared, state, work, active)
-        backward_substitution(factor_band, delta, active)
+        if compiled:
+            native.forward_sweep(c_sweeps, scalars, shared, state, work, active)
+            native.backward_sweep(c_sweeps, shared, work, active)
+        else:
+            forward_sweep(scalars, shared, state, work, active)
+            backward_substitution(shared.factor_band, work.delta, active)
         newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
-        update_sweep(step, scalars, shared, runs, state, out, work, active)
+        if compiled:
+            native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
+        else:
+            update_sweep(step, scalars, shared, runs, state, out, work, active)
         finish_step(step, active, runs, out)
 
 
-@njit(cache=True)
+@kernel_function
 def start_step(step, runs, out, work):
     """The number of leading runs the step must sweep (0: all have stopped), their force scale and
     residual at the predictor reset."""
-    n_steps, status = runs[0], out[3]
-    scale, first_residual = work[3], work[4]
+    n_steps, status, scale, first_residual = runs.n_steps, out.status, work.scale, work.first_residual
     active = 0
     for b in range(n_steps.shape[0]):
         if n_steps[b] >= step and status[b] == STATUS_RUNNING:
@@ -197,37 +176,37 @@ def start_step(step, runs, out, work):
     return active
 
 
-@njit(cache=True)
+@kernel_function
 def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch):
     """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others)."""
-    n_steps, status, phi_count = runs[0], out[3], work[5]
+    n_steps, status, phi_count = runs.n_steps, out.status, work.phi_count
     for b in range(active):
         phi_count[b] = 0
         if status[b] == STATUS_RUNNING and n_steps[b] >= step:
             newton_step(b, step, scalars, shared, runs, state, out, work, scratch)
 
 
-@njit(cache=True)
+@kernel_function
 def finish_step(step, active, runs, out):
     """Mark the runs whose last step this was as finished."""
-    n_steps, status = runs[0], out[3]
+    n_steps, status = runs.n_steps, out.status
     for b in range(active):
         if status[b] == STATUS_RUNNING and n_steps[b] == step:
             status[b] = STATUS_OK
 
 
-@njit(cache=True)
+@kernel_function
 def forward_sweep(scalars, shared, state, work, active):
     """Sweep 1 of a step for the first ``active`` runs: C ṽ + K ũ row by row from the window of q,
     g = rhs − s (C ṽ + K ũ) (kept on the candidate rows), the force scale and residual at the
     predictor on the other rows, and the forward substitution of K_eff δ_lin = g."""
-    rayleigh_alpha, hht_alpha = scalars[0], scalars[3]
-    stiffness_band, factor_band, mass, candidate_index = shared[0], shared[1], shared[2], shared[21]
-    v, q, r = state[1], state[2], state[3]
-    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
+    stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
+                                                          shared.candidate_index)
+    v, q, r = state.v, state.q, state.r
+    delta, g, linear, scale, first_residual = work.delta, work.g, work.linear, work.scale, work.first_residual
+    rayleigh_alpha, s = scalars.rayleigh_alpha, scalars.scheme.s
     n, width = factor_band.shape
     bw = width - 1
-    s = 1.0 + hht_alpha
     acc = np.empty(active)
     for j in range(n):
         d = stiffness_band[j, 0]
@@ -266,27 +245,18 @@ def forward_sweep(scalars, shared, state, work, active):
             delta[j, b] = acc[b] / d
 
 
-@njit(cache=True)
-def update_constants(scalars):
-    """The constants of the state update: s = 1 + α, a0 = 1/(β Δt²) [1/s²], Δt (1 − γ) [s],
-    Δt² (1/2 − β) [s²] and γ Δt [s]."""
-    dt, hht_alpha, newmark_beta, newmark_gamma = scalars[2], scalars[3], scalars[4], scalars[5]
-    return (1.0 + hht_alpha, 1.0 / (newmark_beta * dt * dt), dt * (1.0 - newmark_gamma),
-            dt * dt * (0.5 - newmark_beta), newmark_gamma * dt)
-
-
-@njit(cache=True)
+@kernel_function
 def update_sweep(step, scalars, shared, runs, state, out, work, active):
     """Sweep 3 of a step for the first ``active`` runs: δ = δ_lin − s Z φ, the converged state, the
     support uplift of the runs still going, and the next step's predictors."""
-    rayleigh_beta, dt, hht_alpha = scalars[1], scalars[2], scalars[3]
-    mass, columns, support_row = shared[2], shared[8], shared[23]
-    n_steps = runs[0]
-    u, v, q, r = state[0], state[1], state[2], state[3]
-    uplift_max, status = out[1], out[3]
-    delta, phi_count, phi_column, phi_coefficient = work[0], work[5], work[6], work[7]
+    c = scalars.scheme
+    s, a0, dt, c_a, c_v, c_g = c.s, c.a0, c.time_step, c.displacement_predictor, c.velocity_predictor, c.velocity_update
+    hht_alpha, rayleigh_beta = c.alpha, scalars.rayleigh_beta
+    mass, columns, support_row, n_steps = shared.mass, shared.columns, shared.support_row, runs.n_steps
+    u, v, q, r = state.u, state.v, state.q, state.r
+    uplift_max, status = out.uplift_max, out.status
+    delta, phi_count, phi_column, phi_coefficient = work.delta, work.phi_count, work.phi_column, work.phi_coefficient
     n = mass.shape[0]
-    s, a0, c_v, c_a, c_g = update_constants(scalars)
     for j in range(n):
         for b in range(active):
             for k in range(phi_count[b]):
@@ -309,18 +279,3 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
             for b in range(active):
                 if status[b] == STATUS_RUNNING and n_steps[b] >= step:
                     uplift_max[b] = max(uplift_max[b], delta[j, b])
-
-
-def make_work(shared, n_runs, lanes=None):
-    """Per-step work arrays of a batch: δ (n, lanes); C ṽ + K ũ and g on the candidate rows; force
-    scale and residual at the predictor; φ (count, columns, s φ). ``lanes`` (default ``n_runs``) is
-    the run dimension of the arrays the sweeps read, padded for the compiled sweeps."""
-    lanes = n_runs if lanes is None else lanes
-    n = shared[2].shape[0]
-    n_candidates = shared[22].shape[0]
-    size = 3 * shared[9].shape[0] + 2 * shared[3].shape[0] + 6 * shared[16].shape[0] + 1
-    return (
-        np.zeros((n, lanes)), np.zeros((n_candidates, lanes)), np.zeros((n_candidates, lanes)),
-        np.zeros(lanes), np.zeros(lanes),
-        np.zeros(n_runs, dtype=np.int64), np.zeros((n_runs, size), dtype=np.int64), np.zeros((n_runs, size)),
-    )

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 
 ELEMENTS_PER_WAVELENGTH = 8.0
@@ -117,7 +118,7 @@ def numerics_for_speed(speed: float, wave_speed: float, cutoff: float) -> Numeri
     """
     if not 0.0 < speed < wave_speed:
         raise ModelError(
-            f"speed = {speed * 3.6:g} km/h is outside the valid range (0, {wave_speed * 3.6:g}) km/h for automatic "
+            f"speed = {speed / KMH:g} km/h is outside the valid range (0, {wave_speed / KMH:g}) km/h for automatic "
             "numerics (below the contact-wire wave speed)"
         )
     wavelength, frequency = _wave(speed, wave_speed, cutoff)
@@ -157,13 +158,13 @@ def resolution_warnings(
     out = []
     if given.elements_per_wavelength < WARN_ELEMENTS_PER_WAVELENGTH:
         out.append(
-            f"element_length = {element_length:g} m under-resolves {speed * 3.6:g} km/h (β = {beta:.2f}): "
+            f"element_length = {element_length:g} m under-resolves {speed / KMH:g} km/h (β = {beta:.2f}): "
             f"{given.elements_per_wavelength:.1f} elements per {need.shortest_wavelength:.2f} m wave, "
             f"use at most {need.element_length:g} m (or automatic numerics)"
         )
     if given.steps_per_period < WARN_STEPS_PER_PERIOD:
         out.append(
-            f"time_step = {time_step * 1e3:g} ms under-resolves {speed * 3.6:g} km/h (β = {beta:.2f}): "
+            f"time_step = {time_step * 1e3:g} ms under-resolves {speed / KMH:g} km/h (β = {beta:.2f}): "
             f"{given.steps_per_period:.1f} steps per period at {need.wire_frequency:.0f} Hz, "
             f"use at most {need.time_step * 1e3:g} ms (or automatic numerics)"
         )

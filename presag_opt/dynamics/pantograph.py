@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from presag_opt.dynamics import laws
 from presag_opt.errors import ModelError
 from presag_opt.system.catenary import Provenance
 from presag_opt.system.loader import load_model_file, parse_section
@@ -70,7 +71,8 @@ class PenaltyContact:
 
     The contact force is ``stiffness * penetration`` while the head penetrates the wire
     (penetration = head height minus wire height at the contact point, both as displacements from
-    the static contact position) and zero otherwise. It pushes the wire up and the head down.
+    the static contact position) and zero otherwise; in series with the wire element's compliance
+    (:func:`~presag_opt.dynamics.laws.contact_force`). It pushes the wire up and the head down.
 
     Attributes
     ----------
@@ -82,36 +84,6 @@ class PenaltyContact:
 
     def __post_init__(self) -> None:
         validate_fields(self)
-
-    def force(self, penetration: np.ndarray | float) -> np.ndarray:
-        """Contact force for a penetration (negative: a gap). [N]
-
-        Parameters
-        ----------
-        penetration : array_like
-            Head height minus contact-wire height at the contact point. [m]
-
-        Returns
-        -------
-        numpy.ndarray
-            Compressive contact force, zero where there is a gap. [N]
-        """
-        return self.stiffness * np.maximum(np.asarray(penetration, dtype=float), 0.0)
-
-    def tangent(self, penetration: np.ndarray | float) -> np.ndarray:
-        """Derivative of :meth:`force` with respect to penetration. [N/m]
-
-        Parameters
-        ----------
-        penetration : array_like
-            Head height minus contact-wire height at the contact point. [m]
-
-        Returns
-        -------
-        numpy.ndarray
-            ``stiffness`` where in contact, zero where there is a gap. [N/m]
-        """
-        return np.where(np.asarray(penetration) > 0.0, self.stiffness, 0.0)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -223,10 +195,8 @@ class Pantograph:
         """
         incidence = self._incidence()
         levels = np.array([s.friction for s in self.stages])
-        ratio = incidence @ np.asarray(velocity, dtype=float) / regularisation.velocity
-        tanh = np.tanh(ratio)
-        element_force = levels * tanh
-        element_slope = levels / regularisation.velocity * (1.0 - tanh**2)
+        relative = incidence @ np.asarray(velocity, dtype=float)
+        element_force, element_slope = laws.friction(levels, relative, regularisation.velocity, 1.0)
         return incidence.T @ element_force, incidence.T @ (element_slope[:, None] * incidence)
 
     def contact_period(self) -> float:
@@ -267,9 +237,14 @@ class Pantograph:
             )
 
     def _incidence(self) -> np.ndarray:
-        """Rows: suspension elements; relative velocity of element i = v_i - v_(i+1) (car body 0)."""
-        n = self.n_dofs
-        return np.eye(n) - np.eye(n, k=1)
+        """Rows: suspension elements (:func:`~presag_opt.dynamics.laws.suspension_elements`); relative
+        velocity of element i = v_i - v_(i+1) (car body 0)."""
+        incidence = np.zeros((self.n_dofs, self.n_dofs))
+        for element, (upper, lower) in enumerate(laws.suspension_elements(self.n_dofs)):
+            incidence[element, upper] = 1.0
+            if lower >= 0:
+                incidence[element, lower] = -1.0
+        return incidence
 
     def _connect(self, coefficients: list[float]) -> np.ndarray:
         incidence = self._incidence()

@@ -55,8 +55,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce, State, integrate
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.integrator import State, integrate
+from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
+from presag_opt.dynamics.results import PantographHistory, SimulationResult
 from presag_opt.dynamics.run_plan import (
     plan_run,
     recorded_droppers,
@@ -64,9 +67,8 @@ from presag_opt.dynamics.run_plan import (
     run_warnings,
     static_contact,
 )
-from presag_opt.dynamics.settings import Operation, SimulationSettings
+from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.statistics import (
-    ContactForceStatistics,
     contact_force_statistics,
     lowpass_filter,
 )
@@ -74,164 +76,6 @@ from presag_opt.dynamics.structure import StructuralModel, structural_model
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
-
-
-@dataclass(frozen=True, kw_only=True)
-class PantographHistory:
-    """Time histories and statistics of one pantograph.
-
-    Attributes
-    ----------
-    name : str
-        Pantograph model name.
-    offset : float
-        Distance behind the leading pantograph. [m]
-    position : ndarray
-        Station of the contact point (distance from the first mast). [m]
-    contact_force : ndarray
-        Raw contact force. [N]
-    contact_force_filtered : ndarray
-        Contact force low-pass filtered (zero phase) at the cut-off frequency. [N]
-    wire_uplift : ndarray
-        Contact-wire uplift at the contact point from the static equilibrium. [m]
-    displacement : ndarray, shape (n_times, n_stages)
-        Displacement of each stage (head first) from the pressed rest state, z up. [m]
-    velocity : ndarray, shape (n_times, n_stages)
-        Velocity of each stage. [m/s]
-    window : tuple of float
-        Times the contact point enters and leaves the analysed section. [s]
-    statistics : ContactForceStatistics
-        Statistics over ``window``.
-    """
-
-    name: str
-    offset: float
-    position: np.ndarray
-    contact_force: np.ndarray
-    contact_force_filtered: np.ndarray
-    wire_uplift: np.ndarray
-    displacement: np.ndarray
-    velocity: np.ndarray
-    window: tuple[float, float]
-    statistics: ContactForceStatistics
-
-
-@dataclass(frozen=True, kw_only=True)
-class SimulationResult:
-    """Result of :func:`simulate`.
-
-    Attributes
-    ----------
-    catenary_name : str
-        Name of the catenary.
-    operation : Operation
-        Speed, static force, aerodynamic coefficient and spacings.
-    wave_speed : float
-        Contact-wire wave speed sqrt(T/ρ). [m/s]
-    speed_ratio : float
-        β = v / c. [-]
-    doppler_factor : float
-        (c − v)/(c + v). [-]
-    time : ndarray
-        Sample times. [s]
-    pantographs : tuple of PantographHistory
-        Front to rear.
-    analysed_spans : tuple of int
-        Spans (from 0) of the analysed section. [-]
-    analysed_section : tuple of float
-        Stations where the analysed section starts and ends. [m]
-    support_station : ndarray
-        Station of every mast. [m]
-    support_uplift : ndarray, shape (n_times, n_masts)
-        Contact-wire uplift at every steady arm / support from the static equilibrium. [m]
-    dropper_station : ndarray
-        Station of each recorded dropper. [m]
-    dropper_span : ndarray of int
-        Span (from 0) of each recorded dropper. [-]
-    dropper_force : ndarray, shape (n_times, n_recorded)
-        Tensile force of each recorded dropper; zero when slack. [N]
-    dropper_static_force : ndarray
-        Static force of each recorded dropper. [N]
-    newton_iterations : ndarray of int
-        Newton corrections per time step. [-]
-    stepping_time : float
-        Wall-clock time of the time stepping. [s]
-    total_time : float
-        Wall-clock time of the whole call (form-finding included if it ran). [s]
-    settings : SimulationSettings
-        Settings used.
-    warnings : tuple of str
-        One line per numerical setting that under-resolves the run (see :func:`run_warnings`).
-    """
-
-    catenary_name: str
-    operation: Operation
-    wave_speed: float
-    speed_ratio: float
-    doppler_factor: float
-    time: np.ndarray
-    pantographs: tuple[PantographHistory, ...]
-    analysed_spans: tuple[int, ...]
-    analysed_section: tuple[float, float]
-    support_station: np.ndarray
-    support_uplift: np.ndarray
-    dropper_station: np.ndarray
-    dropper_span: np.ndarray
-    dropper_force: np.ndarray
-    dropper_static_force: np.ndarray
-    newton_iterations: np.ndarray
-    stepping_time: float
-    total_time: float
-    settings: SimulationSettings
-    warnings: tuple[str, ...] = ()
-
-    @property
-    def statistics(self) -> ContactForceStatistics:
-        """Contact-force statistics of the leading pantograph."""
-        return self.pantographs[0].statistics
-
-    @property
-    def analysed_supports(self) -> np.ndarray:
-        """Indices of the masts inside the analysed section (both ends included)."""
-        start, end = self.analysed_section
-        return np.flatnonzero((self.support_station >= start - 1e-9) & (self.support_station <= end + 1e-9))
-
-    @property
-    def uplift_max(self) -> float:
-        """Largest contact-wire uplift at a steady arm / support of the analysed section. [m]"""
-        return float(self.support_uplift[:, self.analysed_supports].max())
-
-    @property
-    def slack(self) -> np.ndarray:
-        """True where a recorded dropper is slack, shape (n_times, n_recorded)."""
-        return self.dropper_force <= 0.0
-
-    def to_dict(self) -> dict:
-        """Headline numbers with units in the key names (the ``--json`` output of the CLI)."""
-        op = self.operation
-        out = {
-            "catenary": self.catenary_name,
-            "pantograph": self.pantographs[0].name,
-            "speed_kmh": op.speed * 3.6,
-            "static_force_N": op.static_force,
-            "aero_force_N": op.uplift_force - op.static_force,
-            **self.statistics.to_dict(),
-            "uplift_max_mm": self.uplift_max * 1e3,
-            "beta": self.speed_ratio,
-            "doppler_factor": self.doppler_factor,
-            "wave_speed_kmh": self.wave_speed * 3.6,
-            "analysed_spans": [s + 1 for s in self.analysed_spans],
-            "analysed_section_m": list(self.analysed_section),
-            "slack_droppers_max": int(self.slack.sum(axis=1).max()) if self.slack.size else 0,
-            "time_step_ms": self.settings.integrator.time_step * 1e3,
-            "wall_time_s": self.total_time,
-            "warnings": list(self.warnings),
-        }
-        if len(self.pantographs) > 1:
-            out["pantographs"] = [
-                {"name": p.name, "offset_m": p.offset, **p.statistics.to_dict()} for p in self.pantographs
-            ]
-        return out
 
 
 @dataclass(frozen=True)
@@ -278,7 +122,7 @@ class _Interaction:
         model = self.model
         wire = weights @ (model.cw_height[nodes] + u[model.cw_z[nodes]])
         penetration = coupling.head_height + u[coupling.dofs[0]] - wire
-        stiffness = 1.0 / (1.0 / coupling.pantograph.contact.stiffness + compliance)
+        stiffness = laws.contact_stiffness(coupling.pantograph.contact.stiffness, compliance)
         return nodes, weights, compliance, stiffness, penetration
 
     def force(self, u: np.ndarray, v: np.ndarray, t: float) -> NonlinearForce:
@@ -290,9 +134,8 @@ class _Interaction:
             gradient = np.zeros(2 + n_stages)
             gradient[:2] = -weights
             gradient[2] = 1.0
-            in_contact = penetration > 0.0
-            force = stiffness * penetration * gradient if in_contact else np.zeros(2 + n_stages)
-            tangent = stiffness * np.outer(gradient, gradient) if in_contact else np.zeros((2 + n_stages,) * 2)
+            force = laws.contact_force(stiffness, penetration) * gradient
+            tangent = laws.contact_tangent(stiffness, penetration) * np.outer(gradient, gradient)
             damping = np.zeros_like(tangent)
             if coupling.pantograph.has_friction:
                 friction, slope = coupling.pantograph.friction_force(v[coupling.dofs], self.friction)
@@ -314,7 +157,7 @@ class _Interaction:
         forces, uplifts = [], []
         for coupling in self.couplings:
             nodes, weights, compliance, stiffness, penetration = self.contact(coupling, u, t)
-            force = stiffness * max(penetration, 0.0)
+            force = laws.contact_force(stiffness, penetration)
             forces.append(force)
             uplifts.append(weights @ u[self.model.cw_z[nodes]] + compliance * force)
         droppers = self.model.dropper_force(u, v)[recorded_droppers]

@@ -83,7 +83,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics.integrator import NO_FORCE, NonlinearForce
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linearised import TensionOnlyStructure
@@ -259,14 +260,16 @@ class StructuralModel:
         v : ndarray, optional
             Velocities, laid out like ``u``. [m/s]
         """
-        return np.maximum(self._axial_force(u, v), 0.0)
+        return laws.dropper_tension(self._axial_force(u, v))
 
     def _axial_force(self, u: np.ndarray, v: np.ndarray | None) -> np.ndarray:
+        """Axial force of every dropper, N = N0 + k e + β_R k ė (:func:`~presag_opt.dynamics.laws.dropper_axial_force`). [N]"""
         d = self.droppers
         stretch = np.einsum("ij,ij->i", u[d.dofs], d.gradient)
-        if v is not None and self.rayleigh_beta:
-            stretch += self.rayleigh_beta * np.einsum("ij,ij->i", v[d.dofs], d.gradient)
-        return d.preload + d.axial_stiffness * stretch
+        if v is None:
+            return laws.dropper_axial_force(d.preload, d.axial_stiffness, stretch, 0.0, 0.0)
+        rate = np.einsum("ij,ij->i", v[d.dofs], d.gradient)
+        return laws.dropper_axial_force(d.preload, d.axial_stiffness, stretch, rate, self.rayleigh_beta)
 
     def dropper_slack_force(self, u: np.ndarray, v: np.ndarray | None = None) -> NonlinearForce:
         """Force that removes the axial force of the slack droppers.
@@ -292,7 +295,7 @@ class StructuralModel:
             B = [−e, e].
         """
         axial = self._axial_force(u, v)
-        slack = np.flatnonzero(axial < 0.0)
+        slack = np.flatnonzero(laws.dropper_slack(axial))
         if not len(slack):
             return NO_FORCE
         d = self.droppers

@@ -1,7 +1,7 @@
 /* The three sweeps over all DOFs of one time step of the batch simulator, in C.
 
-   Compiled by presag_opt.dynamics.native_sweeps and called from the numba kernel
-   (presag_opt.dynamics.kernel.advance_native) in place of its own loops. Each function does exactly
+   Compiled by presag_opt.native.sweeps and called from the numba kernel's one driver loop
+   (presag_opt.dynamics.kernel.advance) in place of its own sweeps. Each function does exactly
    the IEEE operations of its numba counterpart in kernel.py, in the same order, so both give the
    same numbers to the last bit (compiled with -ffp-contract=off and without fast-math). What differs
    is how the runs are held: the numba loops keep one accumulator per run in memory, whose

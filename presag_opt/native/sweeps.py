@@ -11,9 +11,12 @@ whose accumulators stay in vector registers; it gives the same numbers to the la
 
 The library is built once per machine by :func:`presag_opt.native.build` (``-O3
 -march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
-loaded into the process, and the numba kernel :func:`advance` calls its functions by name; numba
-caches that kernel like the others. Without a compiler, or with ``PRESAG_NO_COMPILE=1``,
-:func:`available` is False and the simulator uses :func:`presag_opt.dynamics.kernel.advance`.
+loaded into the process with ctypes; :func:`sweeps` hands its functions to the kernel as function
+pointers, and :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call them with the
+arguments of the numba sweeps, so that the one driver loop,
+:func:`presag_opt.dynamics.kernel.advance`, takes either kind. Without a compiler, or with
+``PRESAG_NO_COMPILE=1``, :func:`available` is False, :func:`sweeps` gives stand-ins of the same
+signatures, and the kernel takes the numba sweeps.
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
 the padding lanes are swept too and never read.
@@ -21,13 +24,15 @@ the padding lanes are swept too and never read.
 
 from __future__ import annotations
 
+import ctypes
 import functools
+import os
+import sys
 from pathlib import Path
+from typing import NamedTuple
 
-from numba import njit, types
-
+from presag_opt.dynamics.jit import inline
 from presag_opt import native
-from presag_opt.dynamics.kernel import finish_step, newton_steps, start_step, update_constants
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""
@@ -38,30 +43,58 @@ FLAGS = ("-O3", "-march=native", "-ffp-contract=off")
 """Compiler flags: optimised for this processor, with every multiplication and addition rounded
 on its own as in numba (no contraction into fused multiply-adds)."""
 
-_pointer = types.uintp
-_forward = types.ExternalFunction("presag_forward_sweep", types.void(
-    _pointer, _pointer, _pointer, types.int64, types.int64, types.float64, types.float64, _pointer, _pointer,
-    _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, types.int64))
-_backward = types.ExternalFunction("presag_backward_sweep", types.void(
-    _pointer, _pointer, types.int64, types.int64, types.int64, types.int64))
-_update = types.ExternalFunction("presag_update_sweep", types.void(
-    types.int64, _pointer, _pointer, _pointer, _pointer, _pointer, types.int64, _pointer, _pointer, _pointer,
-    _pointer, _pointer, types.int64, types.int64, types.int64, types.float64, types.float64, types.float64,
-    types.float64, types.float64, types.float64, types.float64, types.float64, _pointer, _pointer, _pointer,
-    types.int64, _pointer))
+_P, _I, _D = ctypes.c_size_t, ctypes.c_int64, ctypes.c_double  # pointer (as the address), int64, double
+SIGNATURES = {
+    "presag_forward_sweep": (_P, _P, _P, _I, _I, _D, _D, _P, _P, _P, _P, _P, _P, _P, _P, _P, _I, _I),
+    "presag_backward_sweep": (_P, _P, _I, _I, _I, _I),
+    "presag_update_sweep": (_I, _P, _P, _P, _P, _P, _I, _P, _P, _P, _P, _P, _I, _I, _I, _D, _D, _D, _D, _D, _D, _D,
+                            _D, _P, _P, _P, _I, _P),
+}
+"""The functions of ``sweeps.c`` the kernel calls and their argument types (all return void)."""
+
+
+class CSweeps(NamedTuple):
+    """The C sweeps as function pointers, which the kernel takes as arguments (numba calls them
+    through the pointer; their type is their signature, so one compiled kernel serves the library's
+    functions and the stand-ins alike)."""
+
+    forward: object
+    backward: object
+    update: object
 
 
 @functools.cache
 def available() -> bool:
-    """Whether the compiled sweeps are built and loaded into this process (False without a C
-    compiler or with ``PRESAG_NO_COMPILE`` set)."""
-    library = native.build("sweeps", SOURCE.read_text(), FLAGS)
-    if library is None:
-        return False
-    import llvmlite.binding as llvm
+    """Whether the compiled sweeps are built for this machine (False without a C compiler or with
+    ``PRESAG_NO_COMPILE`` set)."""
+    return native.build("sweeps", SOURCE.read_text(), FLAGS) is not None
 
-    llvm.load_library_permanently(str(library))
-    return True
+
+@functools.cache
+def _loaded(path: str) -> CSweeps:
+    library = ctypes.CDLL(path)
+    functions = []
+    for name, arguments in SIGNATURES.items():
+        function = getattr(library, name)
+        function.argtypes, function.restype = arguments, None
+        functions.append(function)
+    return CSweeps(*functions)
+
+
+def _missing(*arguments) -> None:  # pragma: no cover - the kernel calls the C sweeps only when available
+    sys.stderr.write("presag_opt: the compiled sweeps were called but are not built\n")
+    os.abort()  # never a silent wrong result (an exception cannot leave a C callback)
+
+
+_STAND_INS = CSweeps(*(ctypes.CFUNCTYPE(None, *arguments)(_missing) for arguments in SIGNATURES.values()))
+"""Functions of the sweeps' signatures that are never called: the kernel's C arguments without a library."""
+
+
+def sweeps() -> CSweeps:
+    """The C sweeps for the kernel: the built library's functions, or, without one, stand-ins of the
+    same signatures (the kernel then takes the numba sweeps and never calls them)."""
+    library = native.build("sweeps", SOURCE.read_text(), FLAGS) if available() else None
+    return _loaded(str(library)) if library is not None else _STAND_INS
 
 
 def lanes_for(n_runs: int) -> int:
@@ -69,34 +102,41 @@ def lanes_for(n_runs: int) -> int:
     return -(-n_runs // LANES) * LANES
 
 
-@njit(cache=True)
-def advance(first_step, last_step, scalars, shared, runs, state, out, work, scratch):
-    """:func:`presag_opt.dynamics.kernel.advance` with its three sweeps in compiled C (same arguments,
-    same results; the catenary's run arrays padded to :func:`lanes_for` runs)."""
-    rayleigh_alpha, rayleigh_beta, dt, hht_alpha = scalars[0], scalars[1], scalars[2], scalars[3]
-    stiffness_band, factor_band, mass, columns = shared[0], shared[1], shared[2], shared[8]
-    candidate_index, support_row = shared[21], shared[23]
-    n_steps = runs[0]
-    u, v, q, r = state[0], state[1], state[2], state[3]
-    uplift_max, status = out[1], out[3]
-    delta, g, linear, scale, first_residual = work[0], work[1], work[2], work[3], work[4]
-    phi_count, phi_column, phi_coefficient = work[5], work[6], work[7]
-    n, width = factor_band.shape
-    ld = delta.shape[1]
-    s, a0, c_v, c_a, c_g = update_constants(scalars)
-    for step in range(first_step, last_step + 1):
-        active = start_step(step, runs, out, work)
-        if active == 0:
-            break
-        lanes = min(ld, -(-active // LANES) * LANES)
-        _forward(stiffness_band.ctypes.data, factor_band.ctypes.data, mass.ctypes.data, n, width, rayleigh_alpha, s,
-                 q.ctypes.data, v.ctypes.data, r.ctypes.data, candidate_index.ctypes.data, linear.ctypes.data,
-                 g.ctypes.data, scale.ctypes.data, first_residual.ctypes.data, delta.ctypes.data, ld, lanes)
-        _backward(factor_band.ctypes.data, delta.ctypes.data, n, width, ld, lanes)
-        newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
-        _update(n, mass.ctypes.data, columns.ctypes.data, phi_count.ctypes.data, phi_column.ctypes.data,
-                phi_coefficient.ctypes.data, phi_column.shape[1], u.ctypes.data, v.ctypes.data, q.ctypes.data,
-                r.ctypes.data, delta.ctypes.data, ld, lanes, active, a0, c_g, dt, c_a, c_v, s, hht_alpha,
-                rayleigh_beta, support_row.ctypes.data, status.ctypes.data, n_steps.ctypes.data, step,
-                uplift_max.ctypes.data)
-        finish_step(step, active, runs, out)
+@inline
+def _lanes(work, active):
+    """The lanes a sweep of ``active`` runs covers: whole blocks, within the padded run dimension."""
+    return min(work.delta.shape[1], -(-active // LANES) * LANES)
+
+
+@inline
+def forward_sweep(c_sweeps, scalars, shared, state, work, active):
+    """:func:`presag_opt.dynamics.kernel.forward_sweep` in C."""
+    sh = shared
+    n, width = sh.factor_band.shape
+    c_sweeps.forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
+                     scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data,
+                     state.r.ctypes.data, sh.candidate_index.ctypes.data, work.linear.ctypes.data, work.g.ctypes.data,
+                     work.scale.ctypes.data, work.first_residual.ctypes.data, work.delta.ctypes.data,
+                     work.delta.shape[1], _lanes(work, active))
+
+
+@inline
+def backward_sweep(c_sweeps, shared, work, active):
+    """The backward substitution of K_eff δ_lin = g in C (numba's is
+    :func:`presag_opt.native.banded_numba.backward_substitution`)."""
+    n, width = shared.factor_band.shape
+    c_sweeps.backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
+                      _lanes(work, active))
+
+
+@inline
+def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
+    """:func:`presag_opt.dynamics.kernel.update_sweep` in C."""
+    c, sh = scalars.scheme, shared
+    c_sweeps.update(sh.mass.shape[0], sh.mass.ctypes.data, sh.columns.ctypes.data, work.phi_count.ctypes.data,
+                    work.phi_column.ctypes.data, work.phi_coefficient.ctypes.data, work.phi_column.shape[1],
+                    state.u.ctypes.data, state.v.ctypes.data, state.q.ctypes.data, state.r.ctypes.data,
+                    work.delta.ctypes.data, work.delta.shape[1], _lanes(work, active), active, c.a0,
+                    c.velocity_update, c.time_step, c.displacement_predictor, c.velocity_predictor, c.s, c.alpha,
+                    scalars.rayleigh_beta, sh.support_row.ctypes.data, out.status.ctypes.data,
+                    runs.n_steps.ctypes.data, step, out.uplift_max.ctypes.data)

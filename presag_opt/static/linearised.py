@@ -9,7 +9,9 @@ back). Geometric nonlinearity is left out; the full nonlinear equilibrium is
 :meth:`~presag_opt.static.equilibrium.EquilibriumState.solve`.
 
 The elasticity's active-set method (:mod:`presag_opt.elasticity`) and the dynamic model's static
-response (:mod:`presag_opt.dynamics.structure`) both solve this problem here.
+response (:mod:`presag_opt.dynamics.structure`) both solve this problem here. The dropper's law,
+:func:`dropper_axial_force` with its slack threshold :func:`dropper_slack`, is defined here once for
+the statics and every dynamic engine (:mod:`presag_opt.dynamics.laws`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,42 @@ import numpy as np
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.equilibrium import EquilibriumState
+
+
+def dropper_axial_force(preload, stiffness, stretch, rate, rayleigh_beta):
+    """Axial force of a linearised dropper, N = N0 + k e + β_R k ė (tension positive). [N]
+
+    Works on numbers and on arrays of droppers alike; the damping part is left out when β_R = 0
+    (statics: pass 0 for ``rate`` and ``rayleigh_beta``).
+
+    Parameters
+    ----------
+    preload : float or ndarray
+        Static force N0. [N]
+    stiffness : float or ndarray
+        Axial stiffness k. [N/m]
+    stretch : float or ndarray
+        Stretch e from the equilibrium, e·(Δu_MW − Δu_CW) with e the unit vector along the dropper. [m]
+    rate : float or ndarray
+        Stretch rate ė. [m/s]
+    rayleigh_beta : float
+        Stiffness-proportional Rayleigh coefficient β_R of the structure. [s]
+    """
+    axial = preload + stiffness * stretch
+    if rayleigh_beta != 0.0:
+        axial = axial + rayleigh_beta * stiffness * rate
+    return axial
+
+
+def dropper_slack(axial):
+    """Whether a tension-only dropper is slack: its axial force below zero (its axial part removed).
+
+    Parameters
+    ----------
+    axial : float or ndarray
+        Axial force of the linearised dropper (:func:`dropper_axial_force`). [N]
+    """
+    return axial < 0.0
 
 
 @dataclass(frozen=True)
@@ -121,7 +159,7 @@ class TensionOnlyStructure:
                 stretch = stretch0 + gram[:, s] @ z
             else:
                 z, stretch = np.zeros(0), stretch0
-            new_slack = f0 + k * stretch < 0.0
+            new_slack = dropper_slack(dropper_axial_force(f0, k, stretch, 0.0, 0.0))
             if np.array_equal(new_slack, slack):
                 return slack, z
             slack = new_slack

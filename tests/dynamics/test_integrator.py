@@ -8,8 +8,18 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from presag_opt.dynamics.integrator import IntegratorSettings, NonlinearForce, State, integrate
-from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph, load_pantograph
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.integrator import (
+    IntegratorSettings,
+    NonlinearForce,
+    State,
+    integrate,
+)
+from presag_opt.dynamics.pantograph import (
+    FrictionRegularisation,
+    Pantograph,
+    load_pantograph,
+)
 from presag_opt.errors import ConvergenceError, ModelError
 
 
@@ -190,7 +200,8 @@ def _moving_contact_problem(n_wire_elements: int, pantograph: Pantograph, speed:
         keep = (nodes >= 0) & (nodes < n)
         nodes, weights = nodes[keep], weights[keep]
         penetration = u[head] - weights @ u[nodes] - 0.02 * np.sin(2.0 * np.pi * x / 5.0)
-        force, slope = pantograph.contact.force(penetration), pantograph.contact.tangent(penetration)
+        k = pantograph.contact.stiffness
+        force, slope = laws.contact_force(k, penetration), laws.contact_tangent(k, penetration)
         return nodes, weights, float(force), float(slope)
 
     def forces(u: np.ndarray, v: np.ndarray, t: float) -> NonlinearForce:
@@ -336,8 +347,8 @@ def _catenary_like_problem(n_nodes: int, pantograph: Pantograph, speed: float):
         dofs = np.array([2 * node, 2 * node + 2, head])
         gradient = np.array([-(1.0 - xi), -xi, 1.0])
         penetration = gradient @ u[dofs] - 0.02 * np.sin(2.0 * np.pi * x / 5.0)
-        force = float(pantograph.contact.force(penetration))
-        slope = float(pantograph.contact.tangent(penetration))
+        force = float(laws.contact_force(pantograph.contact.stiffness, penetration))
+        slope = float(laws.contact_tangent(pantograph.contact.stiffness, penetration))
         return NonlinearForce(dofs=dofs, force=force * gradient, stiffness=slope * np.outer(gradient, gradient))
 
     def external(t: float) -> np.ndarray:

@@ -9,7 +9,6 @@ from presag_opt.dynamics.pantograph import (
     FrictionRegularisation,
     Pantograph,
     PantographStage,
-    PenaltyContact,
     load_pantograph,
 )
 from presag_opt.errors import ModelError
@@ -98,12 +97,6 @@ def test_friction_opposes_motion_saturates_and_has_a_consistent_tangent():
         ]
     )
     np.testing.assert_allclose(tangent, numeric, rtol=1e-6, atol=1e-6 * np.max(np.abs(tangent)))
-
-
-def test_penalty_contact_is_unilateral():
-    contact = PenaltyContact()
-    np.testing.assert_array_equal(contact.force([-0.01, 0.0, 0.002]), [0.0, 0.0, 100.0])
-    np.testing.assert_array_equal(contact.tangent([-0.01, 0.002]), [0.0, 50e3])
 
 
 def test_time_step_too_large_for_the_contact_stiffness_is_a_model_error():

@@ -1,0 +1,31 @@
+"""The mean contact force of a pantograph, F_m = F_stat + α_ae v², defined once for the package.
+
+The static uplift force F_stat of the pantograph plus its aerodynamic uplift α_ae v² at train speed v
+is the mean contact force the quasi-static rules are evaluated at (:mod:`presag_opt.design`), the
+mean uplift force a simulated pantograph presses the wire with (:mod:`presag_opt.dynamics`) and the
+nominal force of a study's grid (:mod:`presag_opt.studies`). It sits below all of them.
+
+References
+----------
+Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, eq. (4).
+"""
+
+from __future__ import annotations
+
+KMH = 1.0 / 3.6
+"""One km/h in m/s. [m/s]"""
+
+
+def mean_contact_force(static_force, speed, aero_coefficient):
+    """Mean contact force F_m = F_stat + α_ae v² (numbers or arrays; no validation here). [N]
+
+    Parameters
+    ----------
+    static_force : float or ndarray
+        Static uplift force F_stat. [N]
+    speed : float or ndarray
+        Train speed v. [m/s]
+    aero_coefficient : float or ndarray
+        Aerodynamic uplift coefficient α_ae. [N/(m/s)²]
+    """
+    return static_force + aero_coefficient * (speed * speed)

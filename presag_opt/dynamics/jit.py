@@ -1,0 +1,119 @@
+"""numba compilation of the batch kernel, its on-disk cache keyed by every source file it depends on.
+
+numba's ``cache=True`` keys a function's cached machine code by its own source file only: a compiled
+function that calls (and inlines) a function of another file keeps the old code when only that
+other file changes (numba's documented limitation, numba/numba#1833). :func:`kernel_function`
+compiles with the cache, but under :class:`DependencyLocator`, whose source stamp is a hash of the
+contents of every file the function's compiled code comes from: its own, and, followed through the
+module globals it reads, the file of every numba function it can call, recursively (the laws of
+:mod:`presag_opt.dynamics.laws` included, which :mod:`presag_opt.dynamics.batch_newton` compiles
+inline). An edit of any of them makes numba recompile the function on its next use and overwrite the
+stale entry; the cache stays where numba keeps it (``__pycache__`` beside the source, or
+``NUMBA_CACHE_DIR``).
+
+The locator joins numba's list of cache locators (``numba.core.caching.CacheImpl._locator_classes``,
+the hook numba's own locators use) and takes only the functions compiled by :func:`kernel_function`;
+every other numba function keeps numba's locators.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import types
+from collections.abc import Callable
+
+from numba import njit
+from numba.core import caching
+from numba.core.dispatcher import Dispatcher
+
+_KERNEL_FUNCTIONS: set = set()
+"""The Python functions compiled by :func:`kernel_function` (the ones the locator takes)."""
+
+
+def dependency_files(function: Callable) -> tuple[str, ...]:
+    """The source files a compiled function's code comes from: its own and, through its module
+    globals, those of every numba function it can call, recursively (sorted paths)."""
+    files: set[str] = set()
+    seen: set[int] = set()
+    pending = [function]
+    while pending:
+        current = pending.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        code = getattr(current, "__code__", None)
+        if code is not None and os.path.exists(code.co_filename):
+            files.add(os.path.abspath(code.co_filename))
+        for value in list(getattr(current, "__globals__", {}).values()):
+            if isinstance(value, Dispatcher):
+                pending.append(value.py_func)
+            elif isinstance(value, types.ModuleType) and value.__name__.startswith("presag_opt."):
+                # a module the function reads attributes of: every numba function in it counts
+                pending += [item.py_func for item in vars(value).values() if isinstance(item, Dispatcher)]
+    return tuple(sorted(files))
+
+
+@functools.cache
+def _file_digest(path: str, mtime: float, size: int) -> bytes:
+    with open(path, "rb") as handle:
+        return hashlib.sha256(handle.read()).digest()
+
+
+def source_stamp(function: Callable) -> str:
+    """Hash of the contents of :func:`dependency_files` (the key a cached compilation is valid for)."""
+    digest = hashlib.sha256()
+    for path in dependency_files(function):
+        status = os.stat(path)
+        digest.update(os.path.basename(path).encode() + b"\0" + _file_digest(path, status.st_mtime, status.st_size))
+    return digest.hexdigest()
+
+
+class DependencyLocator(caching._CacheLocator):
+    """numba cache locator of a kernel function: numba's own location, :func:`source_stamp` as the
+    freshness stamp."""
+
+    def __init__(self, inner: caching._CacheLocator, py_func: Callable):
+        self._inner = inner
+        self._py_func = py_func
+
+    def ensure_cache_path(self) -> None:
+        self._inner.ensure_cache_path()
+
+    def get_cache_path(self) -> str:
+        return self._inner.get_cache_path()
+
+    def get_source_stamp(self) -> str:
+        return source_stamp(self._py_func)
+
+    def get_disambiguator(self) -> str:
+        return self._inner.get_disambiguator()
+
+    @classmethod
+    def from_function(cls, py_func: Callable, py_file: str) -> DependencyLocator | None:
+        if py_func not in _KERNEL_FUNCTIONS:
+            return None
+        for locator in caching.CacheImpl._locator_classes:
+            if locator is not cls:
+                inner = locator.from_function(py_func, py_file)
+                if inner is not None:
+                    return cls(inner, py_func)
+        return None
+
+
+if DependencyLocator not in caching.CacheImpl._locator_classes:
+    caching.CacheImpl._locator_classes.insert(0, DependencyLocator)
+
+
+def kernel_function(function: Callable) -> Dispatcher:
+    """``numba.njit(cache=True)`` with the cache keyed by every source file the function depends on
+    (see the module notes). Define the function after the imports of what it calls."""
+    _KERNEL_FUNCTIONS.add(function)
+    return njit(cache=True)(function)
+
+
+def inline(function: Callable) -> Dispatcher:
+    """A plain-Python function compiled to be inlined into the kernel functions that call it
+    (``numba.njit(inline="always")``; not cached on its own: its callers' caches cover its file)."""
+    return njit(inline="always")(function)

@@ -1,0 +1,221 @@
+"""The arrays of the batch kernel, by name: what its compiled functions read and write.
+
+The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton`)
+takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
+``shared.head_dof``, at no cost). :func:`~presag_opt.dynamics.batch_system.integrate_batch` fills
+them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch.
+
+Extended DOF numbering: the catenary's DOFs in banded (reverse Cuthill–McKee) order, 0 … n − 1, then
+the pantographs' DOFs, n … n + n_p − 1. Arrays with a run dimension are indexed [DOF, run] for the
+catenary (run innermost; padded to whole blocks of lanes for the compiled sweeps) and [DOF, run] or
+[run, …] as noted.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from presag_opt.dynamics.laws import SchemeConstants
+
+
+class Scalars(NamedTuple):
+    """The numbers all runs of a batch share.
+
+    Attributes
+    ----------
+    scheme : SchemeConstants
+        The time step and the HHT-α constants.
+    rayleigh_alpha : float
+        Mass-proportional Rayleigh coefficient α_R. [1/s]
+    rayleigh_beta : float
+        Stiffness-proportional Rayleigh coefficient β_R. [s]
+    tolerance : float
+        Newton tolerance relative to the step's largest force term. [-]
+    max_iterations : int
+        Newton corrections allowed per step. [-]
+    friction_velocity : float
+        Friction regularisation velocity v_reg. [m/s]
+    """
+
+    scheme: SchemeConstants
+    rayleigh_alpha: float
+    rayleigh_beta: float
+    tolerance: float
+    max_iterations: int
+    friction_velocity: float
+
+
+class Shared(NamedTuple):
+    """The arrays all runs of a batch share (C order, as ``sweeps.c`` reads them).
+
+    Bands are stored by rows, band[j, k] = A[j + k, j]: ``stiffness_band`` K [N/m] and
+    ``factor_band`` the Cholesky factor of K_eff [sqrt(N/m)]; ``mass`` the lumped masses [kg];
+    ``pantograph_mass``, ``_damping``, ``_stiffness`` and ``_inverse`` the pantographs' M [kg],
+    C [N·s/m], K [N/m] and K_eff⁻¹ [m/N]; ``column_of`` the row of ``columns`` (K_eff⁻¹ e_j [m/N])
+    of each DOF, −1 if none; ``head_dof`` and ``contact_stiffness`` [N/m] of each head;
+    ``friction_dofs`` (upper DOF, lower DOF or −1 for the car body) and ``friction_levels`` [N];
+    ``dropper_dofs`` (6 each), ``dropper_gradient`` [-], ``dropper_stiffness`` [N/m],
+    ``dropper_preload`` [N], ``dropper_recorded``; ``support_dofs`` of the analysed section;
+    ``cw_height`` the static contact-wire height per DOF [m]; ``stretch_influence`` each dropper's
+    stretch per unit force at each column [m/N]; ``candidate_index`` each row's place among the rows
+    a nonlinear force can reach (−1 if none) and ``candidate_rows`` their list; ``support_row``
+    whether a row is a support of the analysed section.
+    """
+
+    stiffness_band: np.ndarray
+    factor_band: np.ndarray
+    mass: np.ndarray
+    pantograph_mass: np.ndarray
+    pantograph_damping: np.ndarray
+    pantograph_stiffness: np.ndarray
+    pantograph_inverse: np.ndarray
+    column_of: np.ndarray
+    columns: np.ndarray
+    head_dof: np.ndarray
+    contact_stiffness: np.ndarray
+    friction_dofs: np.ndarray
+    friction_levels: np.ndarray
+    dropper_dofs: np.ndarray
+    dropper_gradient: np.ndarray
+    dropper_stiffness: np.ndarray
+    dropper_preload: np.ndarray
+    dropper_recorded: np.ndarray
+    support_dofs: np.ndarray
+    cw_height: np.ndarray
+    stretch_influence: np.ndarray
+    candidate_index: np.ndarray
+    candidate_rows: np.ndarray
+    support_row: np.ndarray
+
+
+class Runs(NamedTuple):
+    """Each run's length and contact path: ``n_steps`` [-]; per (run, head, record) the two
+    contact-wire DOFs under the head ``path_nodes``, their shape weights ``path_weights`` [-] and the
+    element's compliance ``path_compliance`` [m/N]; ``head_height`` at rest per (run, head) [m];
+    ``uplift`` the mean uplift force per run [N]."""
+
+    n_steps: np.ndarray
+    path_nodes: np.ndarray
+    path_weights: np.ndarray
+    path_compliance: np.ndarray
+    head_height: np.ndarray
+    uplift: np.ndarray
+
+
+class RunState(NamedTuple):
+    """The runs' state between steps. Catenary, [DOF, lane]: the next step's predictors u = ũ [m],
+    v = ṽ [m/s], q = ũ + β_R ṽ [m] and r = α r_n [N] (the right-hand side); pantographs,
+    [DOF, run]: displacement [m], velocity [m/s], acceleration [m/s²] and internal force r [N]."""
+
+    u: np.ndarray
+    v: np.ndarray
+    q: np.ndarray
+    r: np.ndarray
+    pantograph_u: np.ndarray
+    pantograph_v: np.ndarray
+    pantograph_a: np.ndarray
+    pantograph_r: np.ndarray
+
+
+class Records(NamedTuple):
+    """What the kernel records per run: ``contact_force`` [N] per (run, head, record),
+    ``uplift_max`` [m], ``slack_max`` [-], ``status``, ``fail_step``, ``fail_residual`` [N] and
+    ``iterations`` [-] (the arrays of :class:`~presag_opt.dynamics.batch_system.BatchRecords`)."""
+
+    contact_force: np.ndarray
+    uplift_max: np.ndarray
+    slack_max: np.ndarray
+    status: np.ndarray
+    fail_step: np.ndarray
+    fail_residual: np.ndarray
+    iterations: np.ndarray
+
+
+class Work(NamedTuple):
+    """Per-step arrays of a batch: ``delta`` δ [m] (DOF, lane); on the candidate rows
+    ``linear`` = C ṽ + K ũ and ``g`` = rhs − s (C ṽ + K ũ) [N] (row, lane); per lane the force
+    ``scale`` and the ``first_residual`` at the predictor [N]; per run the count, columns and
+    coefficients s φ [N] of φ's catenary part (``phi_count``, ``phi_column``,
+    ``phi_coefficient``)."""
+
+    delta: np.ndarray
+    g: np.ndarray
+    linear: np.ndarray
+    scale: np.ndarray
+    first_residual: np.ndarray
+    phi_count: np.ndarray
+    phi_column: np.ndarray
+    phi_coefficient: np.ndarray
+
+
+class Scratch(NamedTuple):
+    """Scratch arrays of one run's Newton iteration, allocated once per batch: the nonlinear set
+    (``set_dofs``, forces ``set_force`` [N], dense ``tangent`` [N/m], each DOF's ``position`` in the
+    set or −1), each head's ``contact_now`` [N], a dropper's six set positions ``dropper_set``; the
+    full displacement ``u_of`` [m] and velocity ``v_of`` [m/s] at the DOFs the forces read; each
+    dropper's ``stretch`` [m] and ``rate`` [m/s]; the current φ (``phi_dofs``, ``phi`` [N]) and the
+    ``residual`` on the set [N]."""
+
+    set_dofs: np.ndarray
+    set_force: np.ndarray
+    tangent: np.ndarray
+    position: np.ndarray
+    contact_now: np.ndarray
+    dropper_set: np.ndarray
+    u_of: np.ndarray
+    v_of: np.ndarray
+    stretch: np.ndarray
+    rate: np.ndarray
+    phi_dofs: np.ndarray
+    phi: np.ndarray
+    residual: np.ndarray
+
+
+def set_size(shared: Shared) -> int:
+    """Largest nonlinear set of a run: two wire nodes and the head per pantograph, the pantograph
+    DOFs twice (friction), six DOFs per dropper, and one spare. [-]"""
+    return 3 * len(shared.head_dof) + 2 * len(shared.pantograph_mass) + 6 * len(shared.dropper_preload) + 1
+
+
+def make_scratch(shared: Shared) -> Scratch:
+    """The scratch arrays of the per-run Newton solve of a batch."""
+    n = len(shared.mass)
+    n_p = len(shared.pantograph_mass)
+    n_d = len(shared.dropper_preload)
+    size = set_size(shared)
+    return Scratch(
+        set_dofs=np.empty(size, dtype=np.int64),
+        set_force=np.empty(size),
+        tangent=np.empty((size, size)),
+        position=np.full(n + n_p, -1, dtype=np.int64),
+        contact_now=np.zeros(len(shared.head_dof)),
+        dropper_set=np.empty(6, dtype=np.int64),
+        u_of=np.zeros(n + n_p),
+        v_of=np.zeros(n + n_p),
+        stretch=np.zeros(n_d),
+        rate=np.zeros(n_d),
+        phi_dofs=np.empty(size, dtype=np.int64),
+        phi=np.empty(size),
+        residual=np.empty(size),
+    )
+
+
+def make_work(shared: Shared, n_runs: int, lanes: int | None = None) -> Work:
+    """The per-step work arrays of a batch; ``lanes`` (default ``n_runs``) is the run dimension of
+    the arrays the sweeps read, padded for the compiled sweeps."""
+    lanes = n_runs if lanes is None else lanes
+    n = len(shared.mass)
+    n_candidates = len(shared.candidate_rows)
+    size = set_size(shared)
+    return Work(
+        delta=np.zeros((n, lanes)),
+        g=np.zeros((n_candidates, lanes)),
+        linear=np.zeros((n_candidates, lanes)),
+        scale=np.zeros(lanes),
+        first_residual=np.zeros(lanes),
+        phi_count=np.zeros(n_runs, dtype=np.int64),
+        phi_column=np.zeros((n_runs, size), dtype=np.int64),
+        phi_coefficient=np.zeros((n_runs, size)),
+    )
