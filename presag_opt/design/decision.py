@@ -328,3 +328,20 @@ def highest_static_force_static(support_elasticity: float, limit: float, aero_co
         Highest speed of the band. [m/s]
     """
     return limit / support_elasticity - aero_coefficient * speed_high**2
+
+
+def dynamic_candidate(design, tolerance=None) -> Candidate:
+    """The dynamic robust design as a candidate.
+
+    Parameters
+    ----------
+    design : DynamicRobustDesign
+        From :func:`presag_opt.robust.dynamic_design.dynamic_robust_presag` (read by its ``presag_rel``
+        [-] and ``uplift_max`` [m]; the design layer does not import the robust one).
+    tolerance : DynamicTolerance, optional
+        From :func:`presag_opt.robust.dynamic_design.dynamic_tolerance` (its ``low`` and ``high`` [-]);
+        pass it also as :attr:`DecisionInputs.dynamic_tolerance`.
+    """
+    return Candidate(method=DYNAMIC_ROBUST, presag_rel=float(design.presag_rel),
+                     tolerance=None if tolerance is None else (float(tolerance.low), float(tolerance.high)),
+                     uplift=float(design.uplift_max), uplift_dynamic=True)

@@ -129,8 +129,9 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
         [[f"{band.static_force_low:g}–{band.static_force_high:g} N",
           f"{band.speed_low / KMH:g}–{band.speed_high / KMH:g} km/h", f"{band.aero_coefficient * KMH**2:g} N/(km/h)²",
           f"{low:.1f}–{high:.1f} N"]]))
-    parts.append("<h2 id='recommendation'>Recommended pre-sag</h2><p>Quasi-static rule S = F_m·Δe over the F_m band, "
-                 "per layout; the recommendation is the mean of the range ends.</p>" + _table(
+    parts.append("<h2 id='recommendation'>Quasi-static pre-sag over the band</h2><p>Quasi-static rule S = F_m·Δe over the "
+                 "F_m band, per layout; the Δe rule's answer is the mean of the range ends (the decision at the top "
+                 "of the page weighs it against the robust design).</p>" + _table(
         ["layout", "system", "spans sized", "S_rel [‰]", f"S on {l_ref:g} m [mm]", "β at top speed [-]"],
         [[lay.layout_kind, lay.catenary_name, len(lay.section.spans),
           f"{lay.presag_rel_range[0] * 1e3:.2f}–{lay.presag_rel_range[1] * 1e3:.2f}",

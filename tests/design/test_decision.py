@@ -92,3 +92,20 @@ def test_bad_inputs():
         Candidate(method=DELTA_E_RULE, presag_rel=7e-3)
     with pytest.raises(ModelError, match="is not one of"):
         Candidate(method="guess", presag_rel=1e-3)
+
+
+def test_a_dynamic_robust_design_enters_as_a_candidate():
+    from types import SimpleNamespace
+
+    from presag_opt.design.decision import dynamic_candidate
+
+    design = SimpleNamespace(presag_rel=0.75e-3, uplift_max=0.062)
+    tolerance = SimpleNamespace(low=0.65e-3, high=0.9e-3)
+    c = dynamic_candidate(design, tolerance)
+    assert (c.method, c.presag_rel, c.tolerance, c.uplift, c.uplift_dynamic) == (
+        DYNAMIC_ROBUST, 0.75e-3, (0.65e-3, 0.9e-3), 0.062, True)
+    # the case study's shape: β well inside, the quasi-static robust S inside the dynamic tolerance -> it is built
+    d = decide(DecisionInputs(candidates=(*qs(0.93e-3, uplift=0.055), c), beta_max=0.26, beta_limit=0.55,
+                              beta_limit_uncertainty=0.06, dynamic_tolerance=(0.65e-3, 0.95e-3)))
+    assert (d.chosen.method, d.status) == (QUASI_STATIC_ROBUST, "decided")
+    assert [a.method for a in d.alternatives] == [DELTA_E_RULE, DYNAMIC_ROBUST]
