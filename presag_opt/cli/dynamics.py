@@ -108,7 +108,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         check_run_size,
         estimate_runs,
     )
-    from presag_opt.static.equilibrium import form_find_estimate
+    from presag_opt.static.run_time import form_find_estimate
 
     case = _case(args)
     if args.plot:

@@ -59,7 +59,7 @@ def en50318_command(args: argparse.Namespace) -> int:
         load_case,  # the simulator is imported only when this runs
     )
     from presag_opt.dynamics.case_grid import form_find_states
-    from presag_opt.static.equilibrium import form_find_estimate
+    from presag_opt.static.run_time import form_find_estimate
 
     case = load_case(REFERENCE_CASE)
     settings = case.settings

@@ -19,7 +19,8 @@ from presag_opt.dynamics.case import SimulationCase
 from presag_opt.dynamics.run_plan import RunPlan
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import EquilibriumState, form_find
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 GridPlans = dict[tuple[float, float], RunPlan]

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from presag_opt.dynamics.run_plan import RunPlan
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import form_find_estimate
+from presag_opt.static.run_time import form_find_estimate
 from presag_opt.system.catenary import Catenary
 
 MIN_AUTO_ELEMENT_LENGTH = 0.05

@@ -196,7 +196,7 @@ def estimate_study(definition: StudyDefinition, store: str | Path, *, workers: i
         FORM_FINDING_BYTES_PER_NODE,
     )
     from presag_opt.dynamics.run_plan import plan_run
-    from presag_opt.static.equilibrium import form_find_estimate
+    from presag_opt.static.run_time import form_find_estimate
 
     folder = units_directory(Path(store))
     done = finished_units(folder) if folder.is_dir() else set()

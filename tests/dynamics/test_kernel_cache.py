@@ -32,7 +32,7 @@ from presag_opt.dynamics import kernel
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.settings import OperatingPoint
-from presag_opt.static.equilibrium import form_find
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 
 case = load_case("case_study_st98")
