@@ -22,7 +22,6 @@ Elasticity values reported per span are those of pass 1 at the band-centre F_m.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 from collections.abc import Callable
 from concurrent.futures import as_completed
@@ -44,7 +43,7 @@ from presag_opt.design.section import (
     section_elasticity,
 )
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
@@ -331,16 +330,16 @@ def _named(job: Callable, *args):
 
 def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str,
                  progress: Callable[[str], None] | None) -> list:
-    """Run ``job(*args)`` for every section, in forked processes where there are several."""
+    """Run ``job(*args)`` for every section, in worker processes where there are several."""
     workers = min(workers, len(arguments), os.cpu_count() or 1)
-    if workers < 2 or "fork" not in multiprocessing.get_all_start_methods():
+    if workers < 2:
         out = []
         for i, args in enumerate(arguments, start=1):
             out.append(_named(job, *args))
             if progress:
                 progress(f"{stage}: section {i}/{len(arguments)} done")
         return out
-    with worker_pool(workers, "fork") as pool:
+    with worker_pool(workers, WorkerPolicy.FAST_START) as pool:
         futures = [pool.submit(_named, job, *args) for args in arguments]
         for done, _ in enumerate(as_completed(futures), start=1):
             if progress:

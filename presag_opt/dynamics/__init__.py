@@ -27,6 +27,5 @@ Batch engine (compiled)
     :mod:`~presag_opt.dynamics.kernel_data` — the kernel's arrays as named tuples;
     :mod:`~presag_opt.dynamics.kernel` — the sweeps over all DOFs and the one driver loop;
     :mod:`~presag_opt.dynamics.batch_newton` — each run's Newton iteration on its nonlinear DOFs;
-    :mod:`~presag_opt.native.sweeps` (with ``native/sweeps.c``) — the same sweeps in compiled C;
-    :mod:`~presag_opt.dynamics.jit` — numba compilation with caches keyed by every source file.
+    :mod:`~presag_opt.native.sweeps` (with ``native/sweeps.c``) — the same sweeps in compiled C.
 """

@@ -19,7 +19,7 @@ from typing import NamedTuple
 import numpy as np
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.jit import inline, kernel_function
+from presag_opt.native.jit import inline, kernel_function
 
 STATUS_RUNNING = -1
 STATUS_OK = 0

@@ -39,7 +39,7 @@ from presag_opt.dynamics.batch_newton import (
     newton_step,
     nonlinear_forces,
 )
-from presag_opt.dynamics.jit import kernel_function
+from presag_opt.native.jit import kernel_function
 from presag_opt.native.banded_numba import backward_substitution
 
 

@@ -1,8 +1,8 @@
 """Compiled code: C built on the user's machine, and the numba twins that stand in for it.
 
 The lowest layer of the package above :mod:`presag_opt.errors`: nothing here imports the physics
-(except the batch simulator's driver loop in :mod:`~presag_opt.native.sweeps`, which calls the numba
-kernel's per-step functions between its C sweeps). Every C library gives the numbers of its
+(the batch simulator's one driver loop, :func:`presag_opt.dynamics.kernel.advance`, takes the C
+sweeps of :mod:`~presag_opt.native.sweeps` as function pointers). Every C library gives the numbers of its
 fallback to the last bit; only the speed differs. Without a C compiler, or with
 ``PRESAG_NO_COMPILE=1``, the fallbacks run.
 
@@ -20,7 +20,10 @@ banded_numba
 casadi_elements
     The static model's axial element functions as the C code CasADi generates for them.
 sweeps, ``sweeps.c``
-    The batch simulator's three sweeps over all DOFs in C, and the numba driver loop that calls them.
+    The batch simulator's three sweeps over all DOFs in C, handed to the kernel as function pointers.
+jit
+    numba compilation of the batch kernel, with on-disk caches keyed by every source file a compiled
+    function depends on (an edit anywhere it reaches recompiles it).
 """
 
 from presag_opt.native.compiler import COMPILE_ENV_OFF, build, compiling_disabled

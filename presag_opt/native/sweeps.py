@@ -31,8 +31,8 @@ import sys
 from pathlib import Path
 from typing import NamedTuple
 
-from presag_opt.dynamics.jit import inline
 from presag_opt import native
+from presag_opt.native.jit import inline
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""

@@ -1,7 +1,7 @@
 """The batch kernel's numba cache is never stale: an edit of a law in another file takes effect.
 
 numba keys a cached function by its own file only; the kernel's functions are compiled by
-:func:`presag_opt.dynamics.jit.kernel_function`, whose cache is keyed by every file they depend on.
+:func:`presag_opt.native.jit.kernel_function`, whose cache is keyed by every file they depend on.
 The test copies the package (with its warm cache) to a temporary folder, runs a one-run batch there
 in a subprocess, multiplies the friction law in ``laws.py`` by 0.8 — a file the cached kernel
 (``kernel.advance``) does not live in — and runs the batch again: the kernel must recompile and the
@@ -21,7 +21,8 @@ from pathlib import Path
 import numpy as np
 
 import presag_opt
-from presag_opt.dynamics import jit, kernel, laws
+from presag_opt.dynamics import kernel, laws
+from presag_opt.native import jit
 
 PACKAGE = Path(presag_opt.__file__).parent
 
@@ -60,7 +61,7 @@ def _run(root: Path) -> dict:
 
 def test_the_kernel_depends_on_the_laws_and_every_kernel_file():
     files = {Path(f).name for f in jit.dependency_files(kernel.advance.py_func)}
-    assert {"kernel.py", "batch_newton.py", "laws.py", "native_sweeps.py", "kernels.py", "linearised.py"} <= files
+    assert {"kernel.py", "batch_newton.py", "laws.py", "sweeps.py", "banded_numba.py", "linearised.py"} <= files
 
 
 def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path):
