@@ -23,12 +23,8 @@ from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
-GridPlans = dict[tuple[float, float], RunPlan]
-"""(speed [m/s], static force [N]) -> the checked run."""
-
-
 def plan_grid(case: SimulationCase, speeds: Sequence[float], forces: Sequence[float],
-              settings: SimulationSettings) -> GridPlans:
+              settings: SimulationSettings) -> dict[tuple[float, float], RunPlan]:
     """Check every run of the grid without form-finding.
 
     Parameters
@@ -52,7 +48,7 @@ def plan_grid(case: SimulationCase, speeds: Sequence[float], forces: Sequence[fl
     ModelError
         A run that :func:`~presag_opt.dynamics.run_plan.plan_run` refuses.
     """
-    plans: GridPlans = {}
+    plans: dict[tuple[float, float], RunPlan] = {}
     for speed in speeds:
         for force in forces:
             at_force = dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force))
