@@ -9,6 +9,10 @@ Nodes carry three translations (x along the track, y lateral, z up). Elements:
   curvature vector ``r''`` taken from three consecutive nodes;
 - *ground springs* on single degrees of freedom (EN 50318-style supports).
 
+A stitched catenary also has a stitch wire at every inner mast (:mod:`presag_opt.static.stitch_elements`):
+its own nodes, numbered after the wires, cable segments of group ``STITCH_WIRE`` and stitch droppers, which
+are droppers like the others (in ``dropper_elements``).
+
 Every span is split at the masts and the droppers, and each piece into equal elements no longer than
 :attr:`StaticSettings.element_length`; the contact and messenger wire share the same stations, so
 droppers are vertical in the design state.

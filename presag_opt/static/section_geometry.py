@@ -72,11 +72,10 @@ def section_stations(catenary: Catenary, element_length: float) -> SectionStatio
     stations, span_of, is_dropper, local = [], [], [], []
     for i, length in enumerate(spans):
         drop = catenary.droppers.positions_in_span(length)
-        extra = []
+        breaks = np.concatenate([[0.0], drop, [length]])
         if catenary.stitch_wire is not None:
             clamps, stitch_drops = catenary.stitch_wire.points_in_span(i, len(spans), length)
-            extra = clamps + stitch_drops
-        breaks = np.unique(np.round(np.concatenate([[0.0], drop, extra, [length]]), 9))
+            breaks = np.unique(np.round(np.concatenate([breaks, clamps, stitch_drops]), 9))
         pts = [0.0]
         for a, b in itertools.pairwise(breaks):
             n = max(1, math.ceil((b - a) / element_length - 1e-9))
