@@ -9,6 +9,10 @@ Nodes carry three translations (x along the track, y lateral, z up). Elements:
   curvature vector ``r''`` taken from three consecutive nodes;
 - *ground springs* on single degrees of freedom (EN 50318-style supports).
 
+A stitched catenary also has a stitch wire at every inner mast (:mod:`presag_opt.static.stitch_elements`):
+its own nodes, numbered after the wires, cable segments of group ``STITCH_WIRE`` and stitch droppers, which
+are droppers like the others (in ``dropper_elements``).
+
 Every span is split at the masts and the droppers, and each piece into equal elements no longer than
 :attr:`StaticSettings.element_length`; the contact and messenger wire share the same stations, so
 droppers are vertical in the design state.
@@ -41,6 +45,7 @@ from presag_opt.static.section_elements import (  # the element groups and types
     GROUP_NAMES,
     MESSENGER_WIRE,
     STEADY_ARM,
+    STITCH_WIRE,
     AxialElements,
     BendingTriples,
     SectionElements,
@@ -52,10 +57,12 @@ from presag_opt.static.section_geometry import (
     steady_arm_pivots,
     track_plan,
 )
+from presag_opt.static.stitch_elements import add_stitch_wires
 from presag_opt.system.catenary import GRAVITY, Catenary, Damping, Wire
 from presag_opt.system.quantity import quantity, validate_fields
 
-__all__ = ["CONTACT_WIRE", "DROPPER", "GROUP_NAMES", "MESSENGER_WIRE", "PIN_STIFFNESS", "STEADY_ARM", "AxialElements",
+__all__ = ["CONTACT_WIRE", "DROPPER", "GROUP_NAMES", "MESSENGER_WIRE", "PIN_STIFFNESS", "STEADY_ARM", "STITCH_WIRE",
+           "AxialElements",
            "BendingTriples", "Discretisation", "StaticSettings", "discretise", "discretise_lone_wire"]
 
 PIN_STIFFNESS = 1e9
@@ -146,6 +153,11 @@ class Discretisation:
         Degrees of freedom held fixed in equilibrium (supports, anchor, pivots).
     termination_force : ndarray, shape (3 n_nodes,)
         Balance-weight pulls at the wire ends. [N]
+    stitch_chains : tuple of ndarray of int
+        Per stitched mast, the stitch wire's nodes along the track, its messenger-wire clamp nodes at
+        the ends (empty for a simple catenary); the stitch-wire nodes are numbered after the wires.
+    stitch_dropper : ndarray of bool or None
+        Per dropper (in ``dropper_elements`` order), whether it is a stitch dropper (None: none are).
     """
 
     catenary: Catenary | None
@@ -177,6 +189,8 @@ class Discretisation:
     pin_normals: np.ndarray
     fixed_dofs: np.ndarray
     termination_force: np.ndarray
+    stitch_chains: tuple[np.ndarray, ...] = ()
+    stitch_dropper: np.ndarray | None = None
 
     @property
     def n_nodes(self) -> int:
@@ -286,6 +300,12 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     first_dropper = parts.n_axial
     n_droppers = parts.add_droppers(cat, cw_nodes[stations.is_dropper], mw_nodes[stations.is_dropper],
                                     mw_pos[stations.is_dropper, 2] - cw_pos[stations.is_dropper, 2])
+    stitch = add_stitch_wires(parts, cat, stations, cw_nodes, mw_nodes, cw_pos, mw_pos)
+    # All droppers (the stitch droppers too) in along-track order of their contact-wire nodes.
+    drop_elements = np.concatenate([first_dropper + np.arange(n_droppers), stitch.dropper_elements])
+    drop_cw = np.concatenate([cw_nodes[stations.is_dropper], stitch.dropper_cw_nodes])
+    order = np.argsort(drop_cw, kind="stable")
+    drop_elements, drop_cw = drop_elements[order], drop_cw[order]
     parts.add_contact_wire_supports(cat.contact_wire_support, mast_cw)
     parts.add_messenger_wire_supports(cat.messenger_wire_support, mast_mw, normal)
 
@@ -294,8 +314,8 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     parts.fixed[mast_cw[anchor], 0] = True
     parts.fixed[mast_mw[anchor], 0] = True
 
-    wire_pos = np.vstack([cw_pos, mw_pos])
-    termination = _balance_weights(cat, cw_nodes, mw_nodes, heading, 3 * (2 * n_st + len(parts.arm_masts)))
+    wire_pos = np.vstack([cw_pos, mw_pos, stitch.positions])
+    termination = _balance_weights(cat, cw_nodes, mw_nodes, heading, 3 * (len(wire_pos) + len(parts.arm_masts)))
     pivots = steady_arm_pivots(cat, wire_pos, cw_nodes, mast_cw, termination, parts.arm_masts)
     first_arm = parts.add_steady_arms()
     return Discretisation(
@@ -315,9 +335,9 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
         mast_normal=normal,
         axial=parts.axial(),
         bending=parts.bending(),
-        dropper_elements=first_dropper + np.arange(n_droppers),
-        dropper_span=stations.span[stations.is_dropper],
-        dropper_position=stations.local[stations.is_dropper],
+        dropper_elements=drop_elements,
+        dropper_span=stations.span[drop_cw],
+        dropper_position=stations.local[drop_cw],
         arm_elements=first_arm + np.arange(len(parts.arm_masts)),
         arm_pivot_nodes=np.asarray(parts.arm_b, dtype=int),
         arm_masts=np.asarray(parts.arm_masts, dtype=int),
@@ -328,6 +348,8 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
         pin_normals=np.asarray(parts.pin_normals, dtype=float).reshape(-1, 3),
         fixed_dofs=parts.fixed.ravel(),
         termination_force=termination,
+        stitch_chains=stitch.chains,
+        stitch_dropper=np.isin(drop_elements, stitch.dropper_elements),
     )
 
 

@@ -18,6 +18,7 @@ from presag_opt.static.discretisation import (
     CONTACT_WIRE,
     DROPPER,
     MESSENGER_WIRE,
+    STITCH_WIRE,
     Discretisation,
     StaticSettings,
 )
@@ -33,8 +34,10 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     """Find the dropper lengths and support settings that give the target contact-wire geometry.
 
     Target: the contact wire at its designed height at every support and on the pre-sag parabola
-    (zero at the masts, ``presag_rel · l`` at mid-span) at every dropper, at its stagger at every
-    steady arm, under gravity, with both wires at their balance-weight tension. Solved with IPOPT
+    (zero at the masts, ``presag_rel · l`` at mid-span) at every dropper (stitch droppers too), at
+    its stagger at every steady arm, under gravity, with both wires at their balance-weight tension
+    and any stitch wire at its given (horizontal) tension: like the wires' segments, the stitch
+    wire's get the unstretched lengths that carry that tension in the form-found shape. Solved with IPOPT
     as one square system (see :func:`presag_opt.static.form_finding_solver.solve_form_finding`). With a cache
     directory set (:func:`presag_opt.static.cache.use_cache`), a state form-found before for the
     same catenary, settings and code is read back instead.
@@ -85,6 +88,8 @@ def _form_find(catenary: Catenary, settings: StaticSettings) -> EquilibriumState
     wire_tension = _horizontal_wire_tension(disc)
     axial_stiffness = {CONTACT_WIRE: catenary.contact_wire.axial_stiffness,
                        MESSENGER_WIRE: catenary.messenger_wire.axial_stiffness}
+    if catenary.stitch_wire is not None:
+        axial_stiffness[STITCH_WIRE] = catenary.stitch_wire.axial_stiffness
     # First guess of the dropper preload: the contact-wire weight between neighbouring droppers.
     first_guess = ax.design_length.copy()
     drop_station = disc.cw_station[np.searchsorted(disc.cw_nodes, ax.node_a[disc.dropper_elements])]
@@ -154,7 +159,7 @@ def dropper_height_sensitivity(state: EquilibriumState) -> np.ndarray:
 def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
     """Horizontal tension of every wire segment in the design state (0 for other elements). [N]
 
-    A balance weight pulls with T along the track; where the end chord of a wire is turned by φ
+    A balance weight pulls with T along the track (a stitch wire, see below, with its given tension); where the end chord of a wire is turned by φ
     against the track (stagger, curve), balance along the track at the end (the steady arm lies in
     the mast plane) gives the wire a horizontal tension T/cos φ. The mid-point anchor separates the
     two halves, each set by its own end.
@@ -177,6 +182,17 @@ def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
         split = int(np.searchsorted(disc.cw_station, disc.mast_station[anchor]))
         tension[segments[:split]] = halves[0]
         tension[segments[split:]] = halves[1]
+    if disc.catenary is not None and disc.catenary.stitch_wire is not None:
+        # A stitch wire is held at the tension given for it: form-finding finds the unstretched
+        # length of each of its segments that carries that horizontal tension in the found shape.
+        # The messenger wire slides along the track at the mast, so between the two clamps it
+        # carries its own tension less the stitch wire's (along-track balance at each clamp).
+        stitch_tension = disc.catenary.stitch_wire.tension
+        tension[ax.group == STITCH_WIRE] = stitch_tension
+        mw_segments = np.flatnonzero(ax.group == MESSENGER_WIRE)
+        first_mw = disc.mw_nodes[0]
+        for chain in disc.stitch_chains:
+            tension[mw_segments[chain[0] - first_mw : chain[-1] - first_mw]] -= stitch_tension
     return tension
 
 

@@ -109,6 +109,12 @@ def form_finding_system(
         side_nodes.append(wire[k])
         across.append(np.column_stack([-tangent[:, 1], tangent[:, 0], np.zeros(len(k))])
                       / np.linalg.norm(tangent[:, :2], axis=1)[:, None])
+    for chain in disc.stitch_chains:  # a stitch wire's own nodes (its clamps are messenger-wire nodes)
+        k = np.arange(1, len(chain) - 1)
+        tangent = base[chain[k + 1]] - base[chain[k - 1]]
+        side_nodes.append(chain[k])
+        across.append(np.column_stack([-tangent[:, 1], tangent[:, 0], np.zeros(len(k))])
+                      / np.linalg.norm(tangent[:, :2], axis=1)[:, None])
     side_nodes = np.concatenate(side_nodes)
     across_dir = np.concatenate(across)
 

@@ -11,10 +11,11 @@ import numpy as np
 
 from presag_opt.errors import ModelError
 from presag_opt.system.catenary import Catenary, SpringSupport, SteadyArm, Wire
+from presag_opt.system.stitch import StitchWire
 
 # Axial element groups.
-CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM = 0, 1, 2, 3
-GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm")
+CONTACT_WIRE, MESSENGER_WIRE, DROPPER, STEADY_ARM, STITCH_WIRE = 0, 1, 2, 3, 4
+GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm", "stitch wire")
 
 @dataclass(frozen=True, kw_only=True)
 class AxialElements:
@@ -84,7 +85,7 @@ class SectionElements:
         self.ax_len.append(np.asarray(length))
         self.ax_grp.append(np.full(len(length), group))
 
-    def add_wire(self, nodes: np.ndarray, wire: Wire, group: int, pos: np.ndarray) -> None:
+    def add_wire(self, nodes: np.ndarray, wire: Wire | StitchWire, group: int, pos: np.ndarray) -> None:
         """Segments (stiffness EA over the unstretched length at the wire's tension), lumped mass and
         bending triples of one wire."""
         seg = np.linalg.norm(np.diff(pos, axis=0), axis=1)

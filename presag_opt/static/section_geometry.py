@@ -57,7 +57,8 @@ class SectionStations:
 
 
 def section_stations(catenary: Catenary, element_length: float) -> SectionStations:
-    """Stations of every span: masts, droppers, and equal subdivisions no longer than ``element_length``.
+    """Stations of every span: masts, droppers, stitch-wire clamps and stitch droppers, and equal
+    subdivisions no longer than ``element_length``.
 
     Parameters
     ----------
@@ -72,6 +73,9 @@ def section_stations(catenary: Catenary, element_length: float) -> SectionStatio
     for i, length in enumerate(spans):
         drop = catenary.droppers.positions_in_span(length)
         breaks = np.concatenate([[0.0], drop, [length]])
+        if catenary.stitch_wire is not None:
+            clamps, stitch_drops = catenary.stitch_wire.points_in_span(i, len(spans), length)
+            breaks = np.unique(np.round(np.concatenate([breaks, clamps, stitch_drops]), 9))
         pts = [0.0]
         for a, b in itertools.pairwise(breaks):
             n = max(1, math.ceil((b - a) / element_length - 1e-9))

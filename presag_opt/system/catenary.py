@@ -19,6 +19,7 @@ import numpy as np
 from presag_opt.errors import ModelError
 from presag_opt.system.masts import MastGeometry
 from presag_opt.system.quantity import quantity, validate_fields
+from presag_opt.system.stitch import StitchWire
 
 GRAVITY = 9.81
 """Acceleration due to gravity. [m/s²]"""
@@ -315,6 +316,8 @@ class Catenary:
         Per-mast signed stagger, heights and steady-arm type (a surveyed section); None: the scalar
         ``stagger`` (alternating), ``contact_wire_height`` and ``system_height`` at every mast, and
         pull-off arms.
+    stitch_wire : StitchWire or None
+        A stitch wire at every inner mast (a stitched catenary); None: a simple catenary.
     provenance : dict
         Dotted model-file key -> :class:`Provenance`.
     """
@@ -333,6 +336,7 @@ class Catenary:
     presag_profile: tuple[tuple[float, ...], ...] | None = None
     damping: Damping | None = None
     masts: MastGeometry | None = None
+    stitch_wire: StitchWire | None = None
     provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -361,6 +365,29 @@ class Catenary:
             )
         if self.presag_profile is not None:
             self._check_presag_profile()
+        if self.stitch_wire is not None:
+            self._check_stitch_wire()
+
+    def _check_stitch_wire(self) -> None:
+        """The stitch wire's clamps must lie between the mast and the first (last) dropper of every span,
+        and its tension be at most half the messenger wire's."""
+        half = 0.5 * self.stitch_wire.length
+        most = 0.5 * self.messenger_wire.tension
+        if self.stitch_wire.tension > most:
+            raise ModelError(
+                f"stitch_wire.tension = {self.stitch_wire.tension * 1e-3:g} kN is outside the valid range (0, "
+                f"{most * 1e-3:g}] kN: at most half the messenger-wire tension, which between the stitch wire's "
+                "clamps carries its own tension less the stitch wire's"
+            )
+        for s, length in enumerate(self.layout.span_lengths):
+            drops = self.droppers.positions_in_span(length)
+            room = min(drops[0], length - drops[-1])
+            if half > room + 1e-9:
+                raise ModelError(
+                    f"stitch_wire.length = {self.stitch_wire.length:g} m is outside the valid range (0, {2 * room:g}] m "
+                    f"for span {s + 1}: its clamps must lie between the mast and the first droppers "
+                    f"({drops[0]:g} m and {length - drops[-1]:g} m from the masts)"
+                )
 
     def _check_presag_profile(self) -> None:
         """Normalise the profile to tuples of floats; one depth per dropper of each span, each within

@@ -28,6 +28,7 @@ from presag_opt.system.catenary import (
     Wire,
 )
 from presag_opt.system.quantity import SOURCES, range_text, to_si
+from presag_opt.system.stitch import StitchWire
 
 T = TypeVar("T")
 
@@ -199,6 +200,7 @@ CATENARY_SECTIONS = (
     "contact_wire_support",
     "messenger_wire_support",
     "damping",
+    "stitch_wire",
 )
 
 
@@ -243,7 +245,7 @@ def catenary_from_dict(data: Mapping[str, Any]) -> Catenary:
     unknown = [k for k in data if k not in CATENARY_SECTIONS]
     if unknown:
         raise ModelError(f"unknown section [{unknown[0]}]; valid sections: {', '.join(CATENARY_SECTIONS)}")
-    for required in CATENARY_SECTIONS[:-1]:
+    for required in CATENARY_SECTIONS[:-2]:
         if required not in data:
             raise ModelError(f"missing section [{required}]")
     provenance: dict[str, Provenance] = {}
@@ -270,6 +272,8 @@ def catenary_from_dict(data: Mapping[str, Any]) -> Catenary:
             (PinSupport, SpringSupport), data["messenger_wire_support"], "messenger_wire_support", provenance
         ),
         "damping": parse_section(Damping, data["damping"], "damping", provenance) if "damping" in data else None,
+        "stitch_wire": (parse_section(StitchWire, data["stitch_wire"], "stitch_wire", provenance)
+                        if "stitch_wire" in data else None),
     }
     geometry_keys = ("contact_wire_height", "system_height", "stagger")
     extra_geometry = [k for k in geometry if k not in geometry_keys]

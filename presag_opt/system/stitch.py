@@ -1,0 +1,94 @@
+"""Stitch wires: a short cable at each inner support of a stitched catenary, and its stitch droppers.
+
+A stitch wire (Y-wire) hangs from two clamps on the messenger wire, half its length either side of a
+support, and passes below the support; one or more stitch droppers hang the contact wire from it near
+the mast. Being a taut string between its clamps, it gives the contact wire near the support a
+flexibility of its own (about F·a·b/(T·l) under a point force F at distances a, b from its ends) in
+series with the messenger wire's, which is what flattens the elasticity there.
+
+The same stitch wire is fitted at every inner mast of the section; the two end masts (the
+terminations) are left unstitched. Values are SI; model files may use kN and MN.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+from presag_opt.errors import ModelError
+from presag_opt.system.quantity import quantity, validate_fields
+
+
+@dataclass(frozen=True, kw_only=True)
+class StitchWire:
+    """A stitch wire at every inner support, with its stitch droppers.
+
+    Attributes
+    ----------
+    length : float
+        Distance between the two messenger-wire clamps, centred on the support. [m]
+    tension : float
+        Horizontal tension of the stitch wire in the design state; form-finding finds the stitch
+        wire's unstretched length that carries it. [N]
+    mass_per_length : float
+        Mass per metre. [kg/m]
+    axial_stiffness : float
+        EA. [N]
+    dropper_positions : tuple of float
+        Signed distance of each stitch dropper from the support, negative before it along the track
+        (strictly increasing, inside the stitch wire, not at the support). The stitch droppers have
+        the properties of the section's droppers. [m]
+    """
+
+    length: float = quantity("length", 2.0, 40.0)
+    tension: float = quantity("force", 0.1, 20.0, display="kN")
+    mass_per_length: float = quantity("mass_per_length", 0.01, 2.0)
+    axial_stiffness: float = quantity("force", 0.1, 100.0, display="MN")
+    dropper_positions: tuple[float, ...] = quantity("length", -20.0, 20.0)
+
+    def __post_init__(self) -> None:
+        validate_fields(self)
+        pos = tuple(float(p) for p in self.dropper_positions)
+        object.__setattr__(self, "dropper_positions", pos)
+        half = 0.5 * self.length
+        for i, p in enumerate(pos):
+            if not (-half < p < half) or abs(p) < 0.1:
+                raise ModelError(
+                    f"dropper_positions[{i}] = {p:g} m is outside the valid range (-{half:g}, -0.1] or "
+                    f"[0.1, {half:g}) m (inside the {self.length:g} m stitch wire, not at the support)"
+                )
+        if any(b <= a for a, b in itertools.pairwise(pos)):
+            raise ModelError(f"dropper_positions = {list(pos)} m must be strictly increasing")
+
+    @property
+    def bending_stiffness(self) -> float:
+        """EI of the stitch wire: none, it is a pure cable. [N·m²]"""
+        return 0.0
+
+    def points_in_span(self, span: int, n_spans: int, span_length: float) -> tuple[list[float], list[float]]:
+        """Clamp and stitch-dropper positions of the stitch wires that reach into a span.
+
+        Parameters
+        ----------
+        span : int
+            Span, from 0.
+        n_spans : int
+            Spans of the section (its end masts are not stitched). [-]
+        span_length : float
+            Length of the span. [m]
+
+        Returns
+        -------
+        clamps, droppers : list of float
+            Distances from the span's first mast of the stitch wires' messenger-wire clamps and of the
+            stitch droppers in the span. [m]
+        """
+        half = 0.5 * self.length
+        clamps, droppers = [], []
+        if span >= 1:  # the stitch wire of the span's first mast
+            clamps.append(half)
+            droppers += [p for p in self.dropper_positions if p > 0.0]
+        if span + 1 <= n_spans - 1:  # the stitch wire of the span's last mast
+            clamps.append(span_length - half)
+            droppers += [span_length + p for p in self.dropper_positions if p < 0.0]
+        return clamps, sorted(droppers)
