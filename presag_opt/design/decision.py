@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from presag_opt.contact_force import mean_contact_force
 from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ModelError
 
@@ -327,7 +328,8 @@ def highest_static_force_static(support_elasticity: float, limit: float, aero_co
     speed_high : float
         Highest speed of the band. [m/s]
     """
-    return limit / support_elasticity - aero_coefficient * speed_high**2
+    # F_m = F_stat + α_ae v² solved for F_stat at the largest F_m the limit allows
+    return limit / support_elasticity - mean_contact_force(0.0, speed_high, aero_coefficient)
 
 
 def dynamic_candidate(design, tolerance=None) -> Candidate:

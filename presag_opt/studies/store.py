@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from presag_opt.contact_force import mean_contact_force
 from presag_opt.errors import ModelError, StorageError
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.work import UnitResult, WorkUnit
@@ -326,7 +327,8 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
     data["failure"] = (dims, failure.astype(str), {"long_name": "why the run failed (empty if it finished)"})
     data["rule_failure"] = (dims[:-1], rule_failure.astype(str),
                             {"long_name": "why the quasi-static rules could not be evaluated"})
-    nominal = np.add.outer(grid.aero_coefficient * np.asarray(grid.speeds) ** 2, np.asarray(grid.static_forces))
+    nominal = mean_contact_force(np.asarray(grid.static_forces)[None, :], np.asarray(grid.speeds)[:, None],
+                                 grid.aero_coefficient)
     data["F_m_nominal"] = (("speed", "static_force"), nominal,
                            {"units": "N", "long_name": "nominal mean contact force F_stat + alpha_ae v^2"})
     coords: dict[str, Any] = {
