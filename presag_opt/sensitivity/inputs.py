@@ -96,7 +96,8 @@ def _path_of(root: str, key: str, stage_names: Sequence[str]) -> str | None:
     if root == "pantograph" and section.startswith("stages["):
         return f"pantograph.{stage_names[int(section[7:-1])]}.{field}"
     if root == "catenary" and section in _CATENARY_SECTION_PATHS:
-        return f"catenary.{field}"
+        # the pre-sag is what is designed, not an uncertain input
+        return None if field == "presag" else f"catenary.{field}"
     if root == "catenary" and section == "layout":
         return SPAN_LIST if field == "span_lengths" else None
     if root == "operation":
