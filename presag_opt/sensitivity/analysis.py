@@ -31,7 +31,7 @@ from presag_opt.design.recommendation import CASE_STUDY_MODELS
 from presag_opt.dynamics.case import SimulationCase, load_case
 from presag_opt.errors import ModelError
 from presag_opt.sensitivity.dynamic import KMH, DynamicOutput, Resolution, base_study, run_definitions
-from presag_opt.sensitivity.inputs import SPAN_LIST, SensitivityInput, model_inputs, parse_range_override
+from presag_opt.sensitivity.inputs import SPAN_LIST, SensitivityInput, input_spec, model_inputs, parse_range_override
 from presag_opt.sensitivity.methods import (
     OutputIndices,
     evaluate_rows,
@@ -239,6 +239,8 @@ def sensitivity_analysis(
         why = _independent(kind, name, roots)
         if why is not None:
             raise ModelError(f"input {name}: output {output} cannot depend on it ({why})")
+        if name != SPAN_LIST:
+            input_spec(name, roots)  # an unknown name is refused with the valid names at its level
         if name not in overrides and name not in available:
             raise ModelError(f"input {name} has no range in the model files of output {output}; give --range "
                              f"{name}=LOW:HIGH (inputs with ranges: {', '.join(available)})")
