@@ -27,7 +27,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("case", nargs="?", default=DEFAULT_CASE, help=f"case file or built-in name (default {DEFAULT_CASE})")
     p.add_argument("--output", required=True, metavar="OUTPUT",
                    help="recommendation | robust | dynamic:V1,V2 | minima:V | validity:V1,V2,... (speeds in km/h)")
-    p.add_argument("--method", choices=["morris", "sobol"], default="morris")
+    p.add_argument("--method", choices=["morris", "sobol", "spread"], default="morris",
+                   help="morris (screen), sobol (S1, ST) or spread (the output's mean and spread only)")
     p.add_argument("--inputs", metavar="NAME,...", default=None,
                    help="dotted input names (as presag sweep), default: every assumed input the output depends on")
     p.add_argument("--range", metavar="NAME=LOW:HIGH", action="append", default=[], dest="ranges",
@@ -70,7 +71,7 @@ def sensitivity_command(args: argparse.Namespace) -> int:
         args.case, output=args.output, method=args.method, inputs=inputs, ranges=args.ranges, samples=args.samples,
         seed=args.seed, workers=args.workers, scheduler=args.scheduler, out=out, announce=announce,
         progress=progress)
-    paths = save_sensitivity_figures(result, plot) if plot else []
+    paths = save_sensitivity_figures(result, plot) if plot and result.method != "spread" else []
     if args.json:
         print_json(result.to_dict())
         return 0
@@ -79,6 +80,8 @@ def sensitivity_command(args: argparse.Namespace) -> int:
           + (f"; {result.resolution}" if result.resolution else "") + ")")
     for t in result.indices:
         print(f"\n{t.output} [{t.unit}]: mean {t.mean:.4g}, std {t.std:.3g}")
+        if t.method == "spread":
+            continue
         if t.morris:
             print(table(["input", "mu*", "± (95 %)", "sigma", "mu*/max"],
                         [(e.name, e.mu_star, e.mu_star_conf, e.sigma, e.relative) for e in t.morris],

@@ -39,7 +39,12 @@ from presag_opt.sensitivity.methods import (
     morris_indices,
     sobol_design,
     sobol_indices,
+    spread_design,
+    spread_summary,
 )
+
+METHODS = ("morris", "sobol", "spread")
+"""Morris screening, Sobol indices, or the spread of the output over a scrambled Sobol sample."""
 from presag_opt.sensitivity.quasi_static import (
     RECOMMENDATION_VALUES,
     ROBUST_VALUES,
@@ -193,14 +198,16 @@ def sensitivity_analysis(
         Case file or built-in case name.
     output : str
         See the module notes.
-    method : {"morris", "sobol"}
-        Elementary effects (screening) or variance-based indices.
+    method : {"morris", "sobol", "spread"}
+        Elementary effects (screening), variance-based indices, or only the output's spread over a
+        scrambled Sobol sample (``values``; tables with mean and standard deviation).
     inputs : sequence of str, optional
         Input names; default every ``assumed`` number the output can depend on.
     ranges : sequence of str
         ``NAME=LOW:HIGH`` overrides (display unit of the field); an override adds its input.
     samples : int, optional
-        Morris trajectories r (default 10) or Sobol base sample N (power of two, default 64). [-]
+        Morris trajectories r (default 10), Sobol base sample N (power of two, default 64) or spread
+        points (power of two, default 16). [-]
     seed : int
         Seed of the design and of the bootstrap. [-]
     workers : int
@@ -221,8 +228,8 @@ def sensitivity_analysis(
     ModelError
         Unknown output, method or input; an input the output cannot depend on; bad sizes or ranges.
     """
-    if method not in ("morris", "sobol"):
-        raise ModelError(f"--method {method!r} is not one of morris, sobol")
+    if method not in METHODS:
+        raise ModelError(f"--method {method!r} is not one of {', '.join(METHODS)}")
     kind, speeds = parse_output(output)
     case = case if isinstance(case, SimulationCase) else load_case(case)
     roots, provenance = _roots(case, kind)
@@ -247,8 +254,9 @@ def sensitivity_analysis(
         chosen.append(overrides.get(name) or available[name])
     if len({i.name for i in chosen}) != len(chosen):
         raise ModelError("--inputs names an input twice")
-    samples = samples or (10 if method == "morris" else 64)
-    rows = morris_design(chosen, samples, seed) if method == "morris" else sobol_design(chosen, samples, seed)
+    samples = samples or {"morris": 10, "sobol": 64, "spread": 16}[method]
+    design = {"morris": morris_design, "sobol": sobol_design, "spread": spread_design}[method]
+    rows = design(chosen, samples, seed)
     names = tuple(i.name for i in chosen)
 
     start = time.perf_counter()
@@ -279,9 +287,12 @@ def sensitivity_analysis(
         values = np.vstack([spec.values(ds) for ds in datasets])
         text = resolution.text()
     seconds = time.perf_counter() - start
-    analyse = morris_indices if method == "morris" else sobol_indices
-    tables = tuple(analyse(chosen, rows, values[:, j], output=name, unit=unit, seed=seed)
-                   for j, (name, unit) in enumerate(value_names))
+    if method == "spread":
+        tables = tuple(spread_summary(values[:, j], output=name, unit=unit) for j, (name, unit) in enumerate(value_names))
+    else:
+        analyse = morris_indices if method == "morris" else sobol_indices
+        tables = tuple(analyse(chosen, rows, values[:, j], output=name, unit=unit, seed=seed)
+                       for j, (name, unit) in enumerate(value_names))
     return SensitivityResult(case=case.name, output=output, method=method, inputs=tuple(chosen), samples=samples,
                              seed=seed, evaluations=len(rows), seconds=seconds, seconds_first=seconds_first,
                              resolution=text, indices=tables, rows=rows, values=values)

@@ -11,7 +11,7 @@ Outputs (:class:`DynamicOutput`):
 
 - ``dynamic``: σ [N] and σ/F_m [-] of the front pantograph at the model's pre-sag and static force,
   at each given speed;
-- ``minima``: at one speed, over pre-sags 30/50/70 mm and static forces 50–155 N (15 N steps), how
+- ``minima``: at one speed, over pre-sags 30/50/70 mm and static forces 50–150 N (25 N steps), how
   distinct the minimum of σ/F_m over F_m is (its mean rise to the lower end of the curve, the share of
   pre-sags with a distinct minimum) and whether the minima of σ/F_m and of σ move with S (1 if
   distinct at two pre-sags or more with locations rising by more than :data:`MOVE_THRESHOLD`, else 0);
@@ -47,8 +47,8 @@ MOVE_THRESHOLD = 5.0
 MINIMA_PRESAGS = (0.030, 0.050, 0.070)
 """Pre-sags of the ``minima`` and ``validity`` outputs (the paper's grid ends and middle). [m]"""
 
-MINIMA_FORCES = tuple(float(f) for f in range(50, 156, 15))
-"""Static forces of the ``minima`` output (the paper's grid, 50–155 N in 15 N steps). [N]"""
+MINIMA_FORCES = (50.0, 75.0, 100.0, 125.0, 150.0)
+"""Static forces of the ``minima`` output: the span of the paper's grid (50–155 N) in five steps. [N]"""
 
 VALIDITY_FORCES = (65.0, 95.0, 125.0, 155.0)
 """Static forces of the ``validity`` output. [N]"""

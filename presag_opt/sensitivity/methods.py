@@ -108,7 +108,7 @@ class OutputIndices:
     unit : str
         Unit the output and μ*, σ are given in.
     method : str
-        ``"morris"`` or ``"sobol"``.
+        ``"morris"``, ``"sobol"`` or ``"spread"`` (mean and spread only).
     morris : tuple of MorrisEffect
         Ranked Morris table (empty for Sobol).
     sobol : tuple of SobolIndex
@@ -188,6 +188,40 @@ def sobol_design(inputs: Sequence[SensitivityInput], base_samples: int, seed: in
     if base_samples < 8 or base_samples & (base_samples - 1):
         raise ModelError(f"samples = {base_samples} is not a valid Sobol base sample: a power of two, at least 8")
     return sobol_sample.sample(_problem(inputs), base_samples, calc_second_order=False, scramble=True, seed=seed)
+
+
+def spread_design(inputs: Sequence[SensitivityInput], samples: int, seed: int) -> np.ndarray:
+    """A scrambled Sobol sample of the inputs' box, for the spread of an output (no indices).
+
+    Parameters
+    ----------
+    inputs : sequence of SensitivityInput
+        The k inputs.
+    samples : int
+        Points, a power of two, at least 2. [-]
+    seed : int
+        Seed of the scrambling. [-]
+
+    Returns
+    -------
+    ndarray, shape (samples, k)
+        Input values, SI. [SI units of the inputs]
+    """
+    from scipy.stats import qmc
+
+    if samples < 2 or samples & (samples - 1):
+        raise ModelError(f"samples = {samples} is not a valid spread sample: a power of two, at least 2")
+    problem = _problem(inputs)
+    unit = qmc.Sobol(d=problem["num_vars"], scramble=True, seed=seed).random(samples)
+    low, high = np.array(problem["bounds"]).T
+    return low + unit * (high - low)
+
+
+def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndices:
+    """Mean and standard deviation of an output over a spread sample (no indices)."""
+    finite = values[np.isfinite(values)]
+    return OutputIndices(output=output, unit=unit, method="spread", mean=float(np.mean(finite)) if len(finite) else
+                         math.nan, std=float(np.std(finite)) if len(finite) else math.nan)
 
 
 def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray, *, workers: int = 1,

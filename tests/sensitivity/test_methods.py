@@ -112,3 +112,17 @@ def test_bad_sample_sizes_are_refused_in_one_line():
         morris_design(ISHIGAMI, 1, 0)
     with pytest.raises(ModelError, match="samples = 100 is not a valid Sobol base sample: a power of two"):
         sobol_design(ISHIGAMI, 100, 0)
+
+
+def test_spread_design_fills_the_box_reproducibly():
+    from presag_opt.sensitivity.methods import spread_design
+
+    box = inputs(["a", "b"], [(0.0, 2.0), (5.0, 6.0)])
+    rows = spread_design(box, 64, seed=2)
+    assert rows.shape == (64, 2)
+    assert np.all(rows[:, 0] >= 0.0) and np.all(rows[:, 0] <= 2.0) and np.all(rows[:, 1] >= 5.0)
+    # a scrambled Sobol sample of 64 points has its mean within 0.05 of the box centre (uniform: ±0.58/8 = 0.07 sd)
+    assert abs(rows[:, 0].mean() - 1.0) < 0.05
+    assert np.array_equal(spread_design(box, 64, seed=2), rows)
+    with pytest.raises(ModelError, match="a power of two"):
+        spread_design(box, 10, seed=2)
