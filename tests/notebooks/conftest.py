@@ -12,7 +12,7 @@ from nbclient import NotebookClient
 NOTEBOOK_FOLDER = Path(__file__).resolve().parents[2] / "notebooks"
 
 STUDIES = ["01_empirical_and_quasi_static", "02_dynamic_model_validation", "03_validity_study",
-           "04_robust_presag_and_tolerance", "05_curved_track"]
+           "04_robust_presag_and_tolerance", "05_curved_track", "07_sensitivity"]
 
 
 def run_in_fast_mode(stem: str, monkeypatch) -> None:
