@@ -37,6 +37,7 @@ def main() -> int:
     parser.add_argument("--trajectories", type=int, default=10)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--save", type=Path, default=None)
+    parser.add_argument("--out", type=Path, default=None, help="resumable store folder (a rerun resumes)")
     args = parser.parse_args()
     targets = Targets()
     for name, part in PARTS.items():
@@ -45,7 +46,7 @@ def main() -> int:
         print(f"{name}: load average before {os.getloadavg()}", flush=True)
         result = sensitivity_analysis(
             output=part["output"], inputs=part["inputs"], method="morris", samples=args.trajectories, seed=0,
-            workers=args.workers, announce=lambda text: print(f"  {text}", flush=True),
+            workers=args.workers, out=args.out, announce=lambda text: print(f"  {text}", flush=True),
             progress=lambda done, total: print(f"  {done}/{total}", file=sys.stderr, flush=True))
         print(f"{name}: {len(result.inputs)} inputs, {result.evaluations} evaluations, one evaluation "
               f"{result.seconds_first:.1f} s, total {result.seconds:.0f} s; load average after {os.getloadavg()}")

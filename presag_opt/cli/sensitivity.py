@@ -40,7 +40,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler for dynamic outputs (e.g. tcp://host:8786)")
     p.add_argument("--out", metavar="STORE", default=None,
-                   help="folder of the resumable per-sample study stores (dynamic outputs)")
+                   help="folder of the resumable stores (a killed analysis resumes from it)")
     p.add_argument("--plot", metavar="DIR", default=None, help="save the Morris or Sobol figures into this folder")
     add_json_flag(p)
     p.set_defaults(handler=sensitivity_command)

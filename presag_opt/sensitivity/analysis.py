@@ -19,6 +19,7 @@ Outputs (``output``):
 
 from __future__ import annotations
 
+import re
 import tempfile
 import time
 from collections.abc import Callable, Sequence
@@ -215,7 +216,8 @@ def sensitivity_analysis(
     scheduler : str, optional
         Dask scheduler address (dynamic outputs).
     out : str or Path, optional
-        Folder of the resumable per-sample stores (dynamic outputs).
+        Folder of the resumable stores: per-sample study stores (dynamic outputs), or one file per
+        evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
     resolution : Resolution
         Numerics of dynamic outputs.
     announce : callable, optional
@@ -267,10 +269,13 @@ def sensitivity_analysis(
                                                 names=names)
         else:
             evaluator = RobustEvaluator(catenary=case.catenary, names=names)
-        first = evaluate_rows(evaluator, rows[:1])
-        seconds_first = time.perf_counter() - start
-        _announce(announce, len(rows), seconds_first, workers)
-        values = np.vstack([first, evaluate_rows(evaluator, rows[1:], workers=workers, progress=progress)])
+        with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
+            folder = Path(out) if out is not None else Path(scratch)
+            store = folder / f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}"
+            evaluate_rows(evaluator, rows[:1], store=store)  # alone: its time is the cost announced
+            seconds_first = time.perf_counter() - start
+            _announce(announce, len(rows), seconds_first, workers)
+            values = evaluate_rows(evaluator, rows, workers=workers, progress=progress, store=store)
         text = ""
     else:
         spec = DynamicOutput(kind=kind, speeds=speeds, resolution=resolution)

@@ -18,11 +18,14 @@ doi:10.21105/joss.00097.
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 from SALib.analyze import morris as morris_analyze
@@ -33,6 +36,7 @@ from SALib.sample import sobol as sobol_sample
 from presag_opt.errors import ModelError
 from presag_opt.processes import worker_pool
 from presag_opt.sensitivity.inputs import SensitivityInput
+from presag_opt.studies.store import write_atomic
 
 CONFIDENCE = 0.95
 """Level of the bootstrap confidence intervals. [-]"""
@@ -225,7 +229,7 @@ def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndic
 
 
 def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray, *, workers: int = 1,
-                  progress: Callable[[int, int], None] | None = None) -> np.ndarray:
+                  progress: Callable[[int, int], None] | None = None, store: Path | None = None) -> np.ndarray:
     """Evaluate ``function`` at every row, in worker processes, results in row order.
 
     Parameters
@@ -238,6 +242,9 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
         Processes; 1 runs here. [-]
     progress : callable, optional
         Called with (done, total) after each evaluation.
+    store : Path, optional
+        Folder keeping each finished evaluation (``row_NNNNN.json``, written atomically); a rerun
+        reads them back instead of computing. A file whose row differs from the design is refused.
 
     Returns
     -------
@@ -247,19 +254,37 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
     if not 1 <= workers <= 1024:
         raise ModelError(f"workers = {workers} is outside the valid range [1, 1024]")
     results: list[np.ndarray | None] = [None] * len(rows)
-    if workers == 1:
+    if store is not None:
+        store.mkdir(parents=True, exist_ok=True)
         for i, row in enumerate(rows):
-            results[i] = np.atleast_1d(np.asarray(function(row), dtype=float))
-            if progress:
-                progress(i + 1, len(rows))
+            path = store / f"row_{i:05d}.json"
+            if path.exists():
+                saved = json.loads(path.read_text())
+                if saved["row"] != [float(v) for v in row]:
+                    raise ModelError(f"{path}: holds another design's evaluation; use another --out folder")
+                results[i] = np.array(saved["values"], dtype=float)
+    pending = [i for i, r in enumerate(results) if r is None]
+
+    def finish(i: int, value: Any, done: int) -> None:
+        results[i] = np.atleast_1d(np.asarray(value, dtype=float))
+        if store is not None:
+            write_atomic(store / f"row_{i:05d}.json",
+                         json.dumps({"row": [float(v) for v in rows[i]], "values": results[i].tolist()}).encode())
+        if progress:
+            progress(done, len(rows))
+
+    done = len(rows) - len(pending)
+    if workers == 1 or len(pending) <= 1:
+        for i in pending:
+            done += 1
+            finish(i, function(rows[i]), done)
     else:
-        with worker_pool(min(workers, len(rows)), "spawn") as pool:
-            futures = {pool.submit(function, row): i for i, row in enumerate(rows)}
-            for done, future in enumerate(as_completed(futures), start=1):
-                results[futures[future]] = np.atleast_1d(np.asarray(future.result(), dtype=float))
-                if progress:
-                    progress(done, len(rows))
-    return np.vstack(results)
+        with worker_pool(min(workers, len(pending)), "spawn") as pool:
+            futures = {pool.submit(function, rows[i]): i for i in pending}
+            for future in as_completed(futures):
+                done += 1
+                finish(futures[future], future.result(), done)
+    return np.vstack(results) if len(rows) else np.zeros((0, 0))
 
 
 def _check_finite(output: str, values: np.ndarray, rows: np.ndarray, inputs: Sequence[SensitivityInput]) -> None:

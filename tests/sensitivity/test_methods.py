@@ -126,3 +126,14 @@ def test_spread_design_fills_the_box_reproducibly():
     assert np.array_equal(spread_design(box, 64, seed=2), rows)
     with pytest.raises(ModelError, match="a power of two"):
         spread_design(box, 10, seed=2)
+
+
+def test_a_store_keeps_every_evaluation_and_a_rerun_reads_it_back(tmp_path):
+    rows = morris_design(ISHIGAMI, 4, seed=2)
+    first = evaluate_rows(ishigami, rows, store=tmp_path / "s")
+    assert len(list((tmp_path / "s").glob("row_*.json"))) == len(rows)
+    # a function that would fail proves nothing is recomputed
+    again = evaluate_rows(lambda row: 1 / 0, rows, store=tmp_path / "s")
+    assert np.array_equal(again, first)
+    with pytest.raises(ModelError, match="holds another design's evaluation"):
+        evaluate_rows(ishigami, rows + 0.1, store=tmp_path / "s")
