@@ -24,10 +24,10 @@ from _targets import Targets
 from presag_opt.sensitivity import sensitivity_analysis
 
 PARTS = {
-    "recommendation": dict(output="recommendation", inputs=None, target=600.0),
-    "dynamic": dict(output="dynamic:50,90", target=1200.0, inputs=[
+    "recommendation": {"output": "recommendation", "inputs": None, "target": 600.0},
+    "dynamic": {"output": "dynamic:50,90", "target": 1200.0, "inputs": [
         "pantograph.head.mass", "pantograph.head.stiffness", "pantograph.head.damping", "pantograph.frame.mass",
-        "pantograph.frame.damping", "pantograph.frame.friction", "catenary.damping.ratio"]),
+        "pantograph.frame.damping", "pantograph.frame.friction", "catenary.damping.ratio"]},
 }
 
 

@@ -5,7 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
-from presag_opt.cli.common import add_json_flag, output_folder, print_json, progress_enabled, table
+from presag_opt.cli.common import (
+    add_json_flag,
+    output_folder,
+    print_json,
+    progress_enabled,
+    table,
+)
 
 DEFAULT_CASE = "case_study_st98"
 

@@ -31,8 +31,20 @@ import numpy as np
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
 from presag_opt.dynamics.case import SimulationCase, load_case
 from presag_opt.errors import ModelError
-from presag_opt.sensitivity.dynamic import KMH, DynamicOutput, Resolution, base_study, run_definitions
-from presag_opt.sensitivity.inputs import SPAN_LIST, SensitivityInput, input_spec, model_inputs, parse_range_override
+from presag_opt.sensitivity.dynamic import (
+    KMH,
+    DynamicOutput,
+    Resolution,
+    base_study,
+    run_definitions,
+)
+from presag_opt.sensitivity.inputs import (
+    SPAN_LIST,
+    SensitivityInput,
+    input_spec,
+    model_inputs,
+    parse_range_override,
+)
 from presag_opt.sensitivity.methods import (
     OutputIndices,
     evaluate_rows,
@@ -187,7 +199,7 @@ def sensitivity_analysis(
     workers: int = 1,
     scheduler: str | None = None,
     out: str | Path | None = None,
-    resolution: Resolution = Resolution(),
+    resolution: Resolution | None = None,
     announce: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> SensitivityResult:
@@ -218,8 +230,8 @@ def sensitivity_analysis(
     out : str or Path, optional
         Folder of the resumable stores: per-sample study stores (dynamic outputs), or one file per
         evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
-    resolution : Resolution
-        Numerics of dynamic outputs.
+    resolution : Resolution, optional
+        Numerics of dynamic outputs (default :class:`~presag_opt.sensitivity.dynamic.Resolution`()).
     announce : callable, optional
         Called once with the cost estimate (first evaluation × evaluations / workers).
     progress : callable, optional
@@ -278,6 +290,7 @@ def sensitivity_analysis(
             values = evaluate_rows(evaluator, rows, workers=workers, progress=progress, store=store)
         text = ""
     else:
+        resolution = resolution or Resolution()
         spec = DynamicOutput(kind=kind, speeds=speeds, resolution=resolution)
         base = base_study(case)
         definitions = [spec.definition(base, roots, names, row) for row in rows]

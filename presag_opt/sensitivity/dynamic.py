@@ -35,7 +35,14 @@ from presag_opt.processes import worker_pool
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
-from presag_opt.studies.store import assemble, check_store, finished_units, load_unit, prepare_units, save_unit
+from presag_opt.studies.store import (
+    assemble,
+    check_store,
+    finished_units,
+    load_unit,
+    prepare_units,
+    save_unit,
+)
 from presag_opt.studies.validity import validity_analysis
 from presag_opt.studies.work import all_units, run_units, task_groups
 
@@ -137,7 +144,7 @@ class DynamicOutput:
         if self.kind == "minima":
             ratio = dataset["sigma_over_F_m"].values[:, 0, :]
             sigma = dataset["sigma"].values[:, 0, :]
-            fm = dataset["F_m"].values[:, 0, :]
+            dataset["F_m"].values[:, 0, :]
             rises = [_rise(y) for y in ratio]
             return np.array([float(np.mean(rises)), float(np.mean([r > 0.0 for r in rises])),
                              _moves(validity_analysis(dataset), "ratio"), _moves(validity_analysis(dataset), "sigma")])
@@ -232,7 +239,8 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
 def _run_dask(definitions, tasks, address: str, collect) -> None:
     """The tasks on a Dask distributed cluster (as :func:`presag_opt.studies.runner.run_study` does)."""
     try:
-        from distributed import Client, as_completed as dask_completed
+        from distributed import Client
+        from distributed import as_completed as dask_completed
     except ImportError:
         raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
     try:

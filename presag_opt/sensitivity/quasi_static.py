@@ -112,7 +112,9 @@ class RobustEvaluator:
 
     def __call__(self, row: np.ndarray) -> np.ndarray:
         """S_rel, tolerance low, high and width [‰] (see :data:`ROBUST_VALUES`)."""
-        from presag_opt.robust.study import robust_study  # imports cvxpy: only where it is used
+        from presag_opt.robust.study import (
+            robust_study,  # imports cvxpy: only where it is used
+        )
 
         band = _band_with(self.band, self.names, row)
         cat = _catenary_with(self.catenary, self.names, row, span_list=True)

@@ -16,8 +16,8 @@ TINY = Path(__file__).parents[1] / "cli" / "models" / "tiny_case.toml"
 
 def test_dynamic_output_resumes_from_its_store_and_does_not_depend_on_workers(tmp_path):
     # r = 2 trajectories over 2 inputs: 6 samples of one 60 km/h run each on four 30 m spans
-    kwargs = dict(output="dynamic:60", inputs=["pantograph.head.mass", "pantograph.frame.friction"], samples=2,
-                  seed=1)
+    kwargs = {"output": "dynamic:60", "inputs": ["pantograph.head.mass", "pantograph.frame.friction"], "samples": 2,
+                  "seed": 1}
     first = sensitivity_analysis(TINY, workers=1, out=tmp_path / "store", **kwargs)
     assert first.values.shape == (6, 2)
     assert np.all(first.values[:, 0] > 0.0) and np.all(first.values[:, 1] < 1.0)  # σ > 0 N, σ/F_m < 1

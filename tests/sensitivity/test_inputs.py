@@ -79,13 +79,13 @@ def test_range_override_in_the_display_unit(case):
 
 
 @pytest.mark.parametrize("kwargs,words", [
-    (dict(output="recommendation", inputs=["pantograph.head.mass"]), ["cannot depend on it", "quasi-static"]),
-    (dict(output="robust", inputs=[SPAN_LIST]), ["cannot depend on it", "equal spans"]),
-    (dict(output="minima:50", inputs=["operation.static_force"]), ["band of static forces"]),
-    (dict(output="dynamic:50", inputs=["settings.integrator.time_step"]), ["numerical settings"]),
-    (dict(output="validity:50"), ["at least two speeds"]),
-    (dict(output="dynamic:90,50"), ["increasing"]),
-    (dict(output="recommendation", method="fast"), ["--method 'fast'"]),
+    ({"output": "recommendation", "inputs": ["pantograph.head.mass"]}, ["cannot depend on it", "quasi-static"]),
+    ({"output": "robust", "inputs": [SPAN_LIST]}, ["cannot depend on it", "equal spans"]),
+    ({"output": "minima:50", "inputs": ["operation.static_force"]}, ["band of static forces"]),
+    ({"output": "dynamic:50", "inputs": ["settings.integrator.time_step"]}, ["numerical settings"]),
+    ({"output": "validity:50"}, ["at least two speeds"]),
+    ({"output": "dynamic:90,50"}, ["increasing"]),
+    ({"output": "recommendation", "method": "fast"}, ["--method 'fast'"]),
 ])
 def test_refusals_are_one_line(kwargs, words):
     with pytest.raises(ModelError) as info:
