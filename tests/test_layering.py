@@ -30,6 +30,7 @@ LAYERS = {
     "studies": 6,
     "validation": 7,
     "plotting": 8,
+    "sensitivity": 8,
     "report": 9,
     "cli": 10,
 }

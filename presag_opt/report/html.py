@@ -176,6 +176,7 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
         ["estimate", "where", "uplift [mm]"], static_rows + dynamic, {2}))
     parts.append(_figure(figures, "fig-uplift", "Largest steady-arm uplift over the static forces against the speed "
                                                 "ratio, per pre-sag, and its limit."))
+    parts.append(_dependence_section())
     parts.append("<h2 id='inputs'>Inputs and their provenance</h2>" + _table(
         ["file", "key", "value", "unit", "source", "note"],
         [[e.file, e.key, _value(e.value), e.unit, e.source, e.note] for e in report.inputs]))
@@ -203,6 +204,19 @@ def decision_html(decision, span_length: float) -> str:
     style = "summary" if decision.status == "decided" else "warn"
     items = "".join(f"<li>{_e(line.strip())}</li>" for line in lines[1:])
     return f"<div class='{style}' id='decision'><p><b>{_e(lines[0])}</b></p><ul>{items}</ul></div>"
+
+
+def _dependence_section() -> str:
+    """"What this answer depends on": the top inputs of the recommended S_rel (shipped Morris screening)."""
+    from presag_opt.sensitivity.screening import recommendation_dependence
+
+    dep = recommendation_dependence()
+    head = "<h2 id='dependence'>What this answer depends on</h2>"
+    if dep is None:
+        return head + "<p>No screening is shipped; run <code>presag sensitivity --output recommendation</code>.</p>"
+    return head + f"<p>{_e(dep.note)}</p>" + _table(
+        ["input", f"μ* [{dep.unit}]", "μ* / largest", "range varied"],
+        [[name, f"{mu:.3f}", f"{rel:.2f}", rng] for name, mu, rel, rng in dep.rows], {1, 2})
 
 
 def _mean(values) -> float:

@@ -35,10 +35,17 @@ class Provenance:
         One of ``paper``, ``standard``, ``secondary-source``, ``assumed``.
     note : str
         Free text: table, page or reasoning.
+    range : tuple of float or None
+        Plausible range of the number declared beside it (``range = [low, high]``), SI; None if the
+        file declares none. [SI unit of the number]
+    range_note : str
+        Why the range is plausible (its source or reasoning).
     """
 
     source: str
     note: str = ""
+    range: tuple[float, float] | None = None
+    range_note: str = ""
 
 
 @dataclass(frozen=True, kw_only=True)

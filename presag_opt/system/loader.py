@@ -1,7 +1,9 @@
 """Reading model files (TOML) into the validated dataclasses.
 
 Every number in a model file is a table ``{ value = ..., unit = "...", source = "...", note = "..." }``
-where ``source`` is one of ``paper``, ``standard``, ``secondary-source`` or ``assumed``. Unknown
+where ``source`` is one of ``paper``, ``standard``, ``secondary-source`` or ``assumed``. A single value
+may carry its plausible range and the reason for it, ``range = [low, high], range_note = "..."`` in
+the value's unit (what the global sensitivity analysis varies it over; see docs/assumptions.md §7). Unknown
 sections and keys, missing units, unknown units, unknown sources and out-of-range values are errors
 that name the file, the key, the value, its unit and the valid range.
 """
@@ -27,7 +29,7 @@ from presag_opt.system.catenary import (
     SteadyArm,
     Wire,
 )
-from presag_opt.system.quantity import SOURCES, range_text, to_si
+from presag_opt.system.quantity import SOURCES, check_value, range_text, to_si
 from presag_opt.system.stitch import StitchWire
 
 T = TypeVar("T")
@@ -103,21 +105,64 @@ def parse_quantity(entry: Any, spec: dict[str, Any], key: str, provenance: dict[
             f"{key} = {entry!r}: write it as {{ value = ..., unit = \"{spec['display']}\", source = \"...\" }} "
             f"(valid range {range_text(spec)})"
         )
-    unknown = set(entry) - {"value", "unit", "source", "note"}
+    unknown = set(entry) - set(ENTRY_KEYS)
     if unknown:
-        raise ModelError(f"{key}: unknown key(s) {', '.join(sorted(unknown))}; valid keys: value, unit, source, note")
+        raise ModelError(f"{key}: unknown key(s) {', '.join(sorted(unknown))}; valid keys: {', '.join(ENTRY_KEYS)}")
     for required in ("value", "unit", "source"):
         if required not in entry:
             raise ModelError(f"{key}: missing '{required}' (valid range {range_text(spec)})")
     source = entry["source"]
     if source not in SOURCES:
         raise ModelError(f"{key}: source {source!r} is not one of {', '.join(SOURCES)}")
-    provenance[key] = Provenance(source=source, note=str(entry.get("note", "")))
     value = entry["value"]
     unit = entry["unit"]
     if isinstance(value, list):
-        return tuple(_number(f"{key}[{i}]", v, unit, spec, key) for i, v in enumerate(value))
-    return _number(key, value, unit, spec, key)
+        parsed: Any = tuple(_number(f"{key}[{i}]", v, unit, spec, key) for i, v in enumerate(value))
+    else:
+        parsed = _number(key, value, unit, spec, key)
+    plausible = _parse_range(entry, parsed, spec, key)
+    provenance[key] = Provenance(source=source, note=str(entry.get("note", "")), range=plausible,
+                                 range_note=str(entry.get("range_note", "")))
+    return parsed
+
+
+ENTRY_KEYS = ("value", "unit", "source", "note", "range", "range_note")
+"""Keys of one number's table in a model file."""
+
+
+def _parse_range(entry: Mapping[str, Any], value: Any, spec: dict[str, Any], key: str) -> tuple[float, float] | None:
+    """The plausible range ``range = [low, high]`` declared beside a value, SI, or None.
+
+    The range is in the value's unit, must hold the value, lie inside the field's valid range and
+    carry its reason (``range_note``).
+    """
+    if "range" not in entry:
+        if "range_note" in entry:
+            raise ModelError(f"{key}: range_note is given without a range; add range = [low, high] in {entry['unit']}")
+        return None
+    unit = entry["unit"]
+    bounds = entry["range"]
+    shown = entry["value"]
+    if isinstance(value, tuple):
+        raise ModelError(f"{key}: a range can only be declared beside a single value, not a list of {len(value)}")
+    if (not isinstance(bounds, list) or len(bounds) != 2
+            or any(isinstance(b, bool) or not isinstance(b, (int, float)) for b in bounds)):
+        raise ModelError(f"{key}: range = {bounds!r} must be two numbers [low, high] in {unit} "
+                         f"(valid range {range_text(spec)})")
+    low, high = (to_si(b, unit, spec["dimension"], key=key) for b in bounds)
+    for end, si in zip(bounds, (low, high)):
+        try:
+            check_value(f"{key}.range", si, spec)
+        except ModelError:
+            raise ModelError(f"{key}: range end {end:g} {unit} is outside the valid range {range_text(spec)}") from None
+    if not low < high:
+        raise ModelError(f"{key}: range = [{bounds[0]:g}, {bounds[1]:g}] {unit} must have low < high")
+    if not low <= value <= high:
+        raise ModelError(f"{key}: range = [{bounds[0]:g}, {bounds[1]:g}] {unit} does not contain the value "
+                         f"{shown:g} {unit}")
+    if not str(entry.get("range_note", "")).strip():
+        raise ModelError(f"{key}: range = [{bounds[0]:g}, {bounds[1]:g}] {unit} needs range_note, the reason for it")
+    return (low, high)
 
 
 def _number(name: str, value: Any, unit: str, spec: dict[str, Any], key: str) -> float:
@@ -359,6 +404,10 @@ class ModelEntry:
         ``paper``, ``standard``, ``secondary-source`` or ``assumed``.
     note : str
         Where the number comes from, or why it was chosen.
+    range : tuple of float or None
+        Plausible range as written (in ``unit``), or None if none is declared.
+    range_note : str
+        Why that range.
     """
 
     file: str
@@ -367,6 +416,8 @@ class ModelEntry:
     unit: str
     source: str
     note: str = ""
+    range: tuple[float, float] | None = None
+    range_note: str = ""
 
 
 def model_entries(name_or_path: str | Path, kind: str = "catenaries") -> tuple[ModelEntry, ...]:
@@ -390,7 +441,9 @@ def model_entries(name_or_path: str | Path, kind: str = "catenaries") -> tuple[M
             value = node["value"]
             out.append(ModelEntry(file=path.name, key=key, value=tuple(value) if isinstance(value, list) else value,
                                   unit=str(node["unit"]), source=str(node.get("source", "")),
-                                  note=str(node.get("note", ""))))
+                                  note=str(node.get("note", "")),
+                                  range=tuple(node["range"]) if isinstance(node.get("range"), list) else None,
+                                  range_note=str(node.get("range_note", ""))))
         elif isinstance(node, Mapping):
             for name, child in node.items():
                 walk(child, f"{key}.{name}" if key else str(name))

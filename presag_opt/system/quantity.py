@@ -164,3 +164,33 @@ def _as_float(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ModelError(f"{name} = {value!r} is not a number")
     return float(value)
+
+
+DEFAULT_RANGE_SHARE = 0.2
+"""Half-width of the default plausible range of a value that declares none: value ± 20 %. [-]"""
+
+
+def default_range(value: float, spec: dict[str, Any]) -> tuple[float, float] | None:
+    """Plausible range of a value without a declared one: ±:data:`DEFAULT_RANGE_SHARE`, inside the valid range.
+
+    Parameters
+    ----------
+    value : float
+        The value, SI. [SI unit of the field]
+    spec : dict
+        The field's quantity spec (:func:`quantity`); the default range is cut to its valid range.
+
+    Returns
+    -------
+    tuple of float or None
+        (low, high), SI, or None where the range has no width (a value of zero). [SI unit of the field]
+    """
+    low = value - DEFAULT_RANGE_SHARE * abs(value)
+    high = value + DEFAULT_RANGE_SHARE * abs(value)
+    valid_low, valid_high = spec["low"] * spec["factor"], spec["high"] * spec["factor"]
+    low, high = max(low, valid_low), min(high, valid_high)
+    if spec["low_open"] and low <= valid_low:
+        low = valid_low + 0.5 * (value - valid_low)
+    if spec["high_open"] and high >= valid_high:
+        high = valid_high - 0.5 * (valid_high - value)
+    return (low, high) if high > low else None

@@ -12,7 +12,8 @@ from nbclient import NotebookClient
 NOTEBOOK_FOLDER = Path(__file__).resolve().parents[2] / "notebooks"
 
 STUDIES = ["01_empirical_and_quasi_static", "02_dynamic_model_validation", "03_validity_study",
-           "04_robust_presag_and_tolerance", "05_curved_track", "06_design_a_line", "08_stitched_catenary"]
+           "04_robust_presag_and_tolerance", "05_curved_track", "06_design_a_line", "07_sensitivity",
+           "08_stitched_catenary"]
 
 
 def run_in_fast_mode(stem: str, monkeypatch) -> None:

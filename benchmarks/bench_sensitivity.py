@@ -1,0 +1,66 @@
+"""Benchmark of ``presag sensitivity`` (issue 22). Run: python benchmarks/bench_sensitivity.py [--part P] [--save DIR]
+
+1. Morris screening of the case-study recommendation over all its assumed inputs, r = 10
+   trajectories (target <= 10 min on this 2-core machine).
+2. Morris on σ and σ/F_m at 50 and 90 km/h (case-study pre-sag 30 mm, F_stat 120 N, reduced numerics:
+   5 spans, 1 m elements, 4 ms) over the pantograph's assumed inputs and the structural damping
+   ratio, r = 10 (target <= 20 min).
+
+Prints the cost of one evaluation (the first, alone), the total wall time, the load average before
+and after (the figures depend on what else the machine runs) and the ranked tables; ``--save DIR``
+writes each result as JSON (``sensitivity_recommendation.json``, ``sensitivity_dynamic.json``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+from _targets import Targets
+
+from presag_opt.sensitivity import sensitivity_analysis
+
+PARTS = {
+    "recommendation": {"output": "recommendation", "inputs": None, "target": 600.0},
+    "dynamic": {"output": "dynamic:50,90", "target": 1200.0, "inputs": [
+        "pantograph.head.mass", "pantograph.head.stiffness", "pantograph.head.damping", "pantograph.frame.mass",
+        "pantograph.frame.damping", "pantograph.frame.friction", "catenary.damping.ratio"]},
+}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--part", choices=[*PARTS, "all"], default="all")
+    parser.add_argument("--trajectories", type=int, default=10)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--save", type=Path, default=None)
+    parser.add_argument("--out", type=Path, default=None, help="resumable store folder (a rerun resumes)")
+    args = parser.parse_args()
+    targets = Targets()
+    for name, part in PARTS.items():
+        if args.part not in (name, "all"):
+            continue
+        print(f"{name}: load average before {os.getloadavg()}", flush=True)
+        result = sensitivity_analysis(
+            output=part["output"], inputs=part["inputs"], method="morris", samples=args.trajectories, seed=0,
+            workers=args.workers, out=args.out, announce=lambda text: print(f"  {text}", flush=True),
+            progress=lambda done, total: print(f"  {done}/{total}", file=sys.stderr, flush=True))
+        print(f"{name}: {len(result.inputs)} inputs, {result.evaluations} evaluations, one evaluation "
+              f"{result.seconds_first:.1f} s, total {result.seconds:.0f} s; load average after {os.getloadavg()}")
+        for table in result.indices:
+            print(f"  {table.output} [{table.unit}] mean {table.mean:.4g}, std {table.std:.3g}")
+            for e in table.morris:
+                print(f"    {e.name:45s} mu* {e.mu_star:10.4g} ± {e.mu_star_conf:8.2g}  sigma {e.sigma:10.4g}  "
+                      f"rel {e.relative:5.2f}")
+        targets.below(f"{name} Morris r = {args.trajectories}", result.seconds, part["target"])
+        if args.save:
+            args.save.mkdir(parents=True, exist_ok=True)
+            (args.save / f"sensitivity_{name}.json").write_text(json.dumps(result.to_dict(), indent=1))
+    return targets.exit_status()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

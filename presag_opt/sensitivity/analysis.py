@@ -1,0 +1,322 @@
+"""Global sensitivity of one output of a case to its assumed inputs: the job behind ``presag sensitivity``.
+
+:func:`sensitivity_analysis` chooses the inputs (every ``assumed`` number the output can depend on,
+or those named), samples them (Morris or Sobol, seeded), evaluates the output at every sample
+(quasi-static outputs in worker processes, dynamic ones as reduced studies through the studies
+machinery), and returns the ranked indices of each of the output's values.
+
+Outputs (``output``):
+
+- ``recommendation``: the case study's quasi-static recommendation on ST 9,8/9,8 ideal and mixed
+  spans over F_stat 70–140 N, 0–90 km/h: S_rel of each layout (mean of its range ends), the
+  recommended S_rel and the ratio mixed/ideal;
+- ``robust``: the quasi-static minimax pre-sag of the case's catenary over the same band and its
+  installation tolerance (10 % loss);
+- ``dynamic:V1,V2,…`` (km/h): σ and σ/F_m at the case's pre-sag and static force at each speed;
+- ``minima:V`` (km/h): whether σ/F_m has distinct minima over F_m that move with S at that speed;
+- ``validity:V1,V2,…`` (km/h): β* of a reduced validity study over those speeds.
+"""
+
+from __future__ import annotations
+
+import re
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from presag_opt.design.recommendation import CASE_STUDY_MODELS
+from presag_opt.dynamics.case import SimulationCase, load_case
+from presag_opt.errors import ModelError
+from presag_opt.sensitivity.dynamic import (
+    KMH,
+    DynamicOutput,
+    Resolution,
+    base_study,
+    run_definitions,
+)
+from presag_opt.sensitivity.inputs import (
+    SPAN_LIST,
+    SensitivityInput,
+    input_spec,
+    model_inputs,
+    parse_range_override,
+)
+from presag_opt.sensitivity.methods import (
+    OutputIndices,
+    evaluate_rows,
+    morris_design,
+    morris_indices,
+    sobol_design,
+    sobol_indices,
+    spread_design,
+    spread_summary,
+)
+
+METHODS = ("morris", "sobol", "spread")
+"""Morris screening, Sobol indices, or the spread of the output over a scrambled Sobol sample."""
+from presag_opt.sensitivity.quasi_static import (
+    RECOMMENDATION_VALUES,
+    ROBUST_VALUES,
+    RecommendationEvaluator,
+    RobustEvaluator,
+)
+from presag_opt.system.loader import load_catenary
+
+QUASI_STATIC = ("recommendation", "robust")
+DYNAMIC = ("dynamic", "minima", "validity")
+OUTPUT_NAMES = (*QUASI_STATIC, *(f"{k}:SPEEDS" for k in DYNAMIC))
+"""Output names as the command line takes them."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class SensitivityResult:
+    """Indices of every value of one output.
+
+    Attributes
+    ----------
+    case : str
+        Case name.
+    output : str
+        Output as given (e.g. ``recommendation``, ``dynamic:50,90``).
+    method : str
+        ``"morris"`` or ``"sobol"``.
+    inputs : tuple of SensitivityInput
+        Inputs varied, with their ranges.
+    samples : int
+        Morris trajectories r, or Sobol base sample N. [-]
+    seed : int
+        Seed of design and bootstrap. [-]
+    evaluations : int
+        Evaluations of the output. [-]
+    seconds : float
+        Wall time of the evaluations. [s]
+    seconds_first : float
+        Wall time of the first evaluation alone (the cost announced). [s]
+    resolution : str
+        Numerics of a dynamic output ("" for quasi-static ones).
+    indices : tuple of OutputIndices
+        One ranked table per value of the output.
+    rows : ndarray, shape (evaluations, inputs)
+        The sample. [SI units of the inputs]
+    values : ndarray, shape (evaluations, values)
+        The output at each row. [units of the tables]
+    """
+
+    case: str
+    output: str
+    method: str
+    inputs: tuple[SensitivityInput, ...]
+    samples: int
+    seed: int
+    evaluations: int
+    seconds: float
+    seconds_first: float
+    resolution: str
+    indices: tuple[OutputIndices, ...]
+    rows: np.ndarray = field(repr=False, compare=False)
+    values: np.ndarray = field(repr=False, compare=False)
+
+    def table(self, value: str) -> OutputIndices:
+        """The indices of one value of the output, by name."""
+        for item in self.indices:
+            if item.output == value:
+                return item
+        raise ModelError(f"value {value!r} is not one of {', '.join(i.output for i in self.indices)}")
+
+    def to_dict(self) -> dict:
+        """JSON-ready content: inputs, tables, and the design and values (inputs in display units)."""
+        return {"case": self.case, "output": self.output, "method": self.method, "samples": self.samples,
+                "seed": self.seed, "evaluations": self.evaluations, "seconds": self.seconds,
+                "seconds_per_evaluation": self.seconds_first, "resolution": self.resolution,
+                "inputs": [i.to_dict() for i in self.inputs], "indices": [i.to_dict() for i in self.indices],
+                "design": (self.rows / np.array([i.factor for i in self.inputs])).tolist(),
+                "values": self.values.tolist()}
+
+
+def parse_output(text: str) -> tuple[str, tuple[float, ...]]:
+    """``"dynamic:50,90"`` -> (``"dynamic"``, speeds in m/s); a quasi-static output has no speeds.
+
+    Raises
+    ------
+    ModelError
+        For an unknown output or a malformed speed list.
+    """
+    kind, sep, rest = text.partition(":")
+    if kind in QUASI_STATIC and not sep:
+        return kind, ()
+    if kind not in DYNAMIC or not sep:
+        raise ModelError(f"--output {text!r} is not one of {', '.join(OUTPUT_NAMES)} (SPEEDS in km/h, e.g. dynamic:50,90)")
+    try:
+        speeds = tuple(float(s) * KMH for s in rest.split(","))
+    except ValueError:
+        raise ModelError(f"--output {text!r}: the speeds must be numbers in km/h, e.g. {kind}:50,90") from None
+    if any(not 0.0 < s <= 600.0 * KMH for s in speeds) or list(speeds) != sorted(set(speeds)):
+        raise ModelError(f"--output {text!r}: speeds must be increasing and in (0, 600] km/h")
+    return kind, speeds
+
+
+def _roots(case: SimulationCase, kind: str) -> tuple[dict, dict]:
+    """The models an output depends on and their provenance (what its inputs may be taken from)."""
+    if kind == "recommendation":
+        mixed = load_catenary(CASE_STUDY_MODELS[1])
+        return {"catenary": mixed, "operation": case.operation}, {"catenary": mixed.provenance,
+                                                                  "operation": case.provenance}
+    roots = {"catenary": case.catenary, "operation": case.operation}
+    provenance = {"catenary": case.catenary.provenance, "operation": case.provenance}
+    if kind in DYNAMIC:
+        roots["pantograph"] = case.pantograph
+        provenance["pantograph"] = case.pantograph.provenance
+    return roots, provenance
+
+
+def _independent(kind: str, name: str, roots: dict) -> str | None:
+    """Why an output cannot depend on an input (None if it can)."""
+    root = name.split(".", 1)[0]
+    if root == "settings":
+        return "numerical settings are not uncertain inputs (a dynamic output's resolution is fixed)"
+    if root == "pantograph" and kind in QUASI_STATIC:
+        return f"the {kind} output is quasi-static and has no pantograph"
+    if name == "operation.static_force" and kind != "dynamic":
+        return f"the {kind} output covers a band of static forces, not one"
+    if name == SPAN_LIST and len(set(roots["catenary"].layout.span_lengths)) == 1:
+        return f"the {kind} output's section has equal spans"
+    return None
+
+
+def sensitivity_analysis(
+    case: str | Path | SimulationCase = "case_study_st98",
+    *,
+    output: str = "recommendation",
+    method: str = "morris",
+    inputs: Sequence[str] | None = None,
+    ranges: Sequence[str] = (),
+    samples: int | None = None,
+    seed: int = 0,
+    workers: int = 1,
+    scheduler: str | None = None,
+    out: str | Path | None = None,
+    resolution: Resolution | None = None,
+    announce: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> SensitivityResult:
+    """Morris screening or Sobol indices of one output of a case over its uncertain inputs.
+
+    Parameters
+    ----------
+    case : str, Path or SimulationCase
+        Case file or built-in case name.
+    output : str
+        See the module notes.
+    method : {"morris", "sobol", "spread"}
+        Elementary effects (screening), variance-based indices, or only the output's spread over a
+        scrambled Sobol sample (``values``; tables with mean and standard deviation).
+    inputs : sequence of str, optional
+        Input names; default every ``assumed`` number the output can depend on.
+    ranges : sequence of str
+        ``NAME=LOW:HIGH`` overrides (display unit of the field); an override adds its input.
+    samples : int, optional
+        Morris trajectories r (default 10), Sobol base sample N (power of two, default 64) or spread
+        points (power of two, default 16). [-]
+    seed : int
+        Seed of the design and of the bootstrap. [-]
+    workers : int
+        Local worker processes. [-]
+    scheduler : str, optional
+        Dask scheduler address (dynamic outputs).
+    out : str or Path, optional
+        Folder of the resumable stores: per-sample study stores (dynamic outputs), or one file per
+        evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
+    resolution : Resolution, optional
+        Numerics of dynamic outputs (default :class:`~presag_opt.sensitivity.dynamic.Resolution`()).
+    announce : callable, optional
+        Called once with the cost estimate (first evaluation × evaluations / workers).
+    progress : callable, optional
+        Called with (done, total) during the evaluations.
+
+    Raises
+    ------
+    ModelError
+        Unknown output, method or input; an input the output cannot depend on; bad sizes or ranges.
+    """
+    if method not in METHODS:
+        raise ModelError(f"--method {method!r} is not one of {', '.join(METHODS)}")
+    kind, speeds = parse_output(output)
+    case = case if isinstance(case, SimulationCase) else load_case(case)
+    roots, provenance = _roots(case, kind)
+    available = model_inputs(roots, provenance, assumed_only=False)
+    defaults = {n: i for n, i in model_inputs(roots, provenance).items() if _independent(kind, n, roots) is None}
+    overrides = {}
+    for text in ranges:
+        item = parse_range_override(text, roots)
+        overrides[item.name] = item
+    names = list(inputs) if inputs is not None else list(defaults)
+    names += [n for n in overrides if n not in names]
+    chosen = []
+    for name in names:
+        why = _independent(kind, name, roots)
+        if why is not None:
+            raise ModelError(f"input {name}: output {output} cannot depend on it ({why})")
+        if name != SPAN_LIST:
+            input_spec(name, roots)  # an unknown name is refused with the valid names at its level
+        if name not in overrides and name not in available:
+            raise ModelError(f"input {name} has no range in the model files of output {output}; give --range "
+                             f"{name}=LOW:HIGH (inputs with ranges: {', '.join(available)})")
+        chosen.append(overrides.get(name) or available[name])
+    if len({i.name for i in chosen}) != len(chosen):
+        raise ModelError("--inputs names an input twice")
+    samples = samples or {"morris": 10, "sobol": 64, "spread": 16}[method]
+    design = {"morris": morris_design, "sobol": sobol_design, "spread": spread_design}[method]
+    rows = design(chosen, samples, seed)
+    names = tuple(i.name for i in chosen)
+
+    start = time.perf_counter()
+    if kind in QUASI_STATIC:
+        value_names = RECOMMENDATION_VALUES if kind == "recommendation" else ROBUST_VALUES
+        if kind == "recommendation":
+            evaluator = RecommendationEvaluator(ideal=load_catenary(CASE_STUDY_MODELS[0]), mixed=roots["catenary"],
+                                                names=names)
+        else:
+            evaluator = RobustEvaluator(catenary=case.catenary, names=names)
+        with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
+            folder = Path(out) if out is not None else Path(scratch)
+            store = folder / f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}"
+            evaluate_rows(evaluator, rows[:1], store=store)  # alone: its time is the cost announced
+            seconds_first = time.perf_counter() - start
+            _announce(announce, len(rows), seconds_first, workers)
+            values = evaluate_rows(evaluator, rows, workers=workers, progress=progress, store=store)
+        text = ""
+    else:
+        resolution = resolution or Resolution()
+        spec = DynamicOutput(kind=kind, speeds=speeds, resolution=resolution)
+        base = base_study(case)
+        definitions = [spec.definition(base, roots, names, row) for row in rows]
+        value_names = spec.value_names
+        with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
+            folder = Path(out) if out is not None else Path(scratch)
+            run_definitions(definitions[:1], out=folder, workers=1)
+            seconds_first = time.perf_counter() - start
+            _announce(announce, len(rows), seconds_first, workers)
+            datasets = run_definitions(definitions, out=folder, workers=workers, scheduler=scheduler,
+                                       progress=progress)
+        values = np.vstack([spec.values(ds) for ds in datasets])
+        text = resolution.text()
+    seconds = time.perf_counter() - start
+    if method == "spread":
+        tables = tuple(spread_summary(values[:, j], output=name, unit=unit) for j, (name, unit) in enumerate(value_names))
+    else:
+        analyse = morris_indices if method == "morris" else sobol_indices
+        tables = tuple(analyse(chosen, rows, values[:, j], output=name, unit=unit, seed=seed)
+                       for j, (name, unit) in enumerate(value_names))
+    return SensitivityResult(case=case.name, output=output, method=method, inputs=tuple(chosen), samples=samples,
+                             seed=seed, evaluations=len(rows), seconds=seconds, seconds_first=seconds_first,
+                             resolution=text, indices=tables, rows=rows, values=values)
+
+
+def _announce(announce: Callable[[str], None] | None, count: int, first: float, workers: int) -> None:
+    if announce:
+        total = first * count / max(1, workers)
+        announce(f"{count} evaluations × {first:.1f} s (the first one) / {workers} worker(s) ≈ {total / 60:.1f} min")

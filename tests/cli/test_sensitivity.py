@@ -1,0 +1,68 @@
+"""``presag sensitivity`` run as a user would (installed script), on a tiny case (four 30 m spans)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SCRIPT = Path(sys.executable).parent / "presag"
+TINY = Path(__file__).parent / "models" / "tiny_case.toml"
+
+
+def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
+    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600, check=False)
+
+
+def test_morris_on_the_robust_output_json_plot_and_cost_announcement(tmp_path):
+    args = ("sensitivity", str(TINY), "--output", "robust", "--inputs",
+            "catenary.system_height,operation.aero_coefficient", "--samples", "2", "--seed", "3", "--json")
+    result = presag(*args, "--plot", "figs", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)  # --json: stdout is one JSON object, nothing else
+    assert data["evaluations"] == 2 * (2 + 1)  # r (k + 1)
+    assert [i["name"] for i in data["inputs"]] == ["catenary.system_height", "operation.aero_coefficient"]
+    # the system height's range is declared in the model file; α_ae's is the ±20 % default
+    assert data["inputs"][0]["declared"] and (data["inputs"][0]["low"], data["inputs"][0]["high"]) == (1.0, 1.6)
+    assert data["inputs"][1]["low"] == pytest.approx(0.8 * 0.00097, rel=1e-12)
+    tables = {t["output"]: t for t in data["indices"]}
+    assert set(tables) == {"presag_rel", "tolerance_low", "tolerance_high", "tolerance_width"}
+    for t in tables.values():
+        assert len(t["ranked"]) == 2
+        assert t["ranked"][0]["mu_star"] >= t["ranked"][1]["mu_star"]
+        assert t["ranked"][0]["mu_star_relative"] == pytest.approx(1.0, abs=1e-12)
+    # F_m scales with α_ae over the band's top (+-20 % of 7.9 N at 90 km/h): the robust S_rel must move
+    assert tables["presag_rel"]["ranked"][0]["mu_star"] > 1e-3
+    assert "evaluations ×" in result.stderr and "min" in result.stderr
+    assert len(list((tmp_path / "figs").glob("sensitivity_robust_*_morris.png"))) == 4
+    # reproducible with the seed (the same design and the same indices)
+    again = json.loads(presag(*args, cwd=tmp_path).stdout)
+    assert again["indices"] == data["indices"] and again["design"] == data["design"]
+
+
+BAD = [
+    (["--output", "robust", "--inputs", "pantograph.head.mass"],
+     ["input pantograph.head.mass", "cannot depend on it", "quasi-static"]),
+    (["--output", "robust", "--inputs", "catenary.contact_wire.colour"], ["unknown input", "colour"]),
+    (["--output", "robust", "--range", "catenary.system_height=2:1"], ["--range catenary.system_height", "LOW < HIGH"]),
+    (["--output", "robust", "--range", "catenary.system_height=0.5:9"], ["9 m", "outside the valid range"]),
+    (["--output", "robust", "--range", "catenary.system_height"], ["NAME=LOW:HIGH"]),
+    (["--output", "sigma"], ["--output 'sigma' is not one of", "recommendation"]),
+    (["--output", "dynamic:fast"], ["speeds must be numbers in km/h"]),
+    (["--output", "robust", "--method", "sobol", "--samples", "100"], ["power of two"]),
+    (["--output", "robust", "--inputs", "operation.static_force"], ["cannot depend on it", "band of static forces"]),
+]
+
+
+@pytest.mark.parametrize("args,words", BAD, ids=[b[1][0] for b in BAD])
+def test_bad_input_ends_with_one_line(tmp_path, args, words):
+    result = presag("sensitivity", str(TINY), *args, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("presag: error: "), result.stderr
+    for word in words:
+        assert word in lines[0], f"{word!r} missing from: {lines[0]}"
