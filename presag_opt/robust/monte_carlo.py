@@ -29,7 +29,11 @@ import numpy as np
 from scipy import stats
 
 from presag_opt.errors import ModelError
-from presag_opt.robust.installation import InstallationErrors, StandardDraws, draw_installation_errors
+from presag_opt.robust.installation import (
+    InstallationErrors,
+    StandardDraws,
+    draw_installation_errors,
+)
 from presag_opt.robust.path import PathModel
 from presag_opt.robust.realisation import InstallationResponse, installation_response
 from presag_opt.robust.scenarios import ForceScenarios

@@ -11,8 +11,16 @@ import pytest
 from presag_opt.errors import ModelError
 from presag_opt.robust import Risk, evaluate_design, robust_presag
 from presag_opt.robust.installation import InstallationErrors, draw_installation_errors
-from presag_opt.robust.monte_carlo import QuasiStaticMonteCarlo, largest_dropper_tolerance, percentile_summary
-from presag_opt.robust.realisation import check_realisation, installation_response, installed_state
+from presag_opt.robust.monte_carlo import (
+    QuasiStaticMonteCarlo,
+    largest_dropper_tolerance,
+    percentile_summary,
+)
+from presag_opt.robust.realisation import (
+    check_realisation,
+    installation_response,
+    installed_state,
+)
 
 
 @pytest.fixture(scope="module")
