@@ -18,6 +18,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.cli import tolerance_mc
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary
 
@@ -68,6 +69,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
             _add_check_options(p)
             _add_dynamic_options(p)
+        else:
+            tolerance_mc.add_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
 
 
@@ -250,6 +253,9 @@ def check_settings(catenary):
 
 
 def tolerance_command(args: argparse.Namespace) -> int:
+    tolerance_mc.check_options(args)
+    if args.monte_carlo:
+        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a)[0], parse_within(args.within))
     study, plot = _study(args)
     _plot(args, study, plot)
     data = study.to_dict()
