@@ -35,7 +35,10 @@ from presag_opt.dynamics.case import load_case
 from presag_opt.robust import OperatingGrid, robust_study
 from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
 from presag_opt.robust.installation import InstallationErrors, draw_installation_errors
-from presag_opt.robust.monte_carlo import QuasiStaticMonteCarlo, largest_dropper_tolerance
+from presag_opt.robust.monte_carlo import (
+    QuasiStaticMonteCarlo,
+    largest_dropper_tolerance,
+)
 from presag_opt.robust.realisation import check_realisation, installation_response
 from presag_opt.system.loader import load_catenary
 

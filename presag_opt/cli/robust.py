@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from presag_opt.cli import tolerance_mc
 from presag_opt.cli.common import (
     add_json_flag,
     band,
@@ -18,7 +19,6 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from presag_opt.cli import tolerance_mc
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary
 

@@ -42,8 +42,8 @@ def add_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--distribution", choices=("normal", "uniform"), default="normal",
                    help="normal (size = σ, default) or uniform within ±size")
     g.add_argument("--samples", metavar="N", default=None,
-                   help="realisations (default %d quasi-static, %d with --dynamic)" % (
-                       DEFAULT_SAMPLES["quasi-static"], DEFAULT_SAMPLES["dynamic"]))
+                   help=f"realisations (default {DEFAULT_SAMPLES['quasi-static']} quasi-static, "
+                   f"{DEFAULT_SAMPLES['dynamic']} with --dynamic)")
     g.add_argument("--seed", metavar="N", default="0", help="seed of the random draws (default 0)")
     g.add_argument("--presag-mm", metavar="MM", default=None,
                    help="the design's pre-sag on the reference span in mm (default the robust parabola of the band)")
@@ -128,7 +128,10 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float) -> i
 
 
 def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
-    from presag_opt.robust.monte_carlo import QuasiStaticMonteCarlo, largest_dropper_tolerance
+    from presag_opt.robust.monte_carlo import (
+        QuasiStaticMonteCarlo,
+        largest_dropper_tolerance,
+    )
 
     with progress(args) as report:
         report("linearised installation response of the section")

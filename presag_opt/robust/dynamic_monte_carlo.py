@@ -32,7 +32,11 @@ from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import worker_pool
-from presag_opt.robust.installation import InstallationErrors, InstallationSample, draw_installation_errors
+from presag_opt.robust.installation import (
+    InstallationErrors,
+    InstallationSample,
+    draw_installation_errors,
+)
 from presag_opt.robust.monte_carlo import percentile_summary
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.robust.realisation import installed_state
