@@ -130,3 +130,20 @@ def test_share_weighted_mean_follows_the_larger_share():
     assert design.fleet.presag * 1e3 == pytest.approx(best, abs=0.6)
     assert design.fleet.objective == pytest.approx(values.min(), rel=2e-3)
     assert abs(design.fleet.presag * 1e3 - 40.0) < abs(design.fleet.presag * 1e3 - 60.0)
+
+
+def test_one_type_fleet_is_the_band_evaluation_and_a_train_has_a_point_per_pantograph():
+    from presag_opt.robust import BandEvaluator
+    from tests.robust.test_dynamic_search import CATENARY, GRID, PANTOGRAPH, SETTINGS
+    from tests.robust.test_dynamic_search import SPAN as SHORT
+
+    design = 0.012 / SHORT
+    alone = BandEvaluator(CATENARY, PANTOGRAPH, GRID, settings=SETTINGS)(design).statistics
+    fleet = FleetEvaluator(CATENARY, [PANTOGRAPH], (1.0,), GRID, settings=SETTINGS)(design).statistics
+    for field in ("mean_force", "sigma", "uplift_max"):
+        assert np.array_equal(getattr(alone, field), getattr(fleet, field))
+    train = FleetEvaluator(CATENARY, [PANTOGRAPH], (1.0,), GRID, spacing=10.0, settings=SETTINGS)(design).statistics
+    assert len(train.sigma) == 2 * len(alone.sigma)
+    assert np.array_equal(train.uplift_max[0::2], train.uplift_max[1::2])  # one uplift per run
+    # the trailing pantograph runs on a wire its leader has set swinging: its σ differs
+    assert np.abs(train.sigma[1::2] / train.sigma[0::2] - 1.0).max() > 0.01
