@@ -262,7 +262,8 @@ def check_settings(catenary):
 def tolerance_command(args: argparse.Namespace) -> int:
     tolerance_mc.check_options(args)
     if args.monte_carlo:
-        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a)[0], parse_within(args.within))
+        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a)[0], parse_within(args.within),
+                                                 DYNAMIC_DEFAULTS)
     study, plot = _study(args)
     _plot(args, study, plot)
     data = study.to_dict()

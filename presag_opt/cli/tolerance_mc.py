@@ -84,8 +84,9 @@ def check_options(args: argparse.Namespace) -> None:
         raise ModelError("--distribution, --seed and --workers are options of the Monte Carlo; add --monte-carlo")
 
 
-def monte_carlo_command(args: argparse.Namespace, study_for, within: float) -> int:
-    """``presag tolerance --monte-carlo``; ``study_for(args)`` gives the quasi-static robust study."""
+def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dynamic_defaults: dict) -> int:
+    """``presag tolerance --monte-carlo``; ``study_for(args)`` gives the quasi-static robust study,
+    ``dynamic_defaults`` the band, grid, pantograph and α_ae of ``presag robust --dynamic``."""
     from presag_opt.robust.installation import InstallationErrors
 
     dropper = _number(args, "dropper_error", "mm", 0.0, MAX_ERROR_MM)
@@ -109,7 +110,7 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float) -> i
     span = study.reference_span
     presag_rel = study.robust_parabola.presag_rel if presag_mm is None else presag_mm * 1e-3 / span
     if args.dynamic:
-        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers)
+        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers, dynamic_defaults)
     else:
         data, result = _quasi_static(args, study, presag_rel, errors, samples, seed, within)
     data.update(catenary=study.catenary_name, reference_span_m=span, presag_mm=presag_rel * span * 1e3,
@@ -155,8 +156,7 @@ def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
     return data, result.worst_case * 1e3
 
 
-def _dynamic(args, study, presag_rel, errors, samples, seed, workers):
-    from presag_opt.cli.robust import DYNAMIC_DEFAULTS
+def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
     from presag_opt.design.band import KMH, OperatingBand
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.dynamics.settings import SimulationSettings
@@ -164,7 +164,6 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers):
     from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
     from presag_opt.system.loader import load_catenary
 
-    d = DYNAMIC_DEFAULTS
     (f_low, f_high), (v_low, v_high) = d["static_force"], d["speed"]
     band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
                          speed_high=v_high * KMH, aero_coefficient=d["aero"] / KMH**2)
