@@ -25,10 +25,12 @@ from presag_opt.design.band import KMH
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
+from presag_opt.processes import worker_pool
 from presag_opt.robust.band_evaluation import (
     BandEvaluation,
     BandEvaluator,
     BandStatistics,
+    simulate_band,
 )
 from presag_opt.robust.dynamic_design import (
     DynamicObjective,
@@ -131,7 +133,8 @@ class FleetEvaluator:
     settings : SimulationSettings, optional
         Numerical settings; default automatic numerics.
     workers : int
-        Processes per type when several pre-sags are asked for at once. [-]
+        Processes that simulate (type, pre-sag) pairs side by side when several are asked for at
+        once; 1 simulates in this process. [-]
     progress : callable, optional
         Short messages as the work goes on.
     """
@@ -149,6 +152,8 @@ class FleetEvaluator:
         spacings = None if spacing is None else (float(spacing),)
         self.members = [BandEvaluator(catenary, p, grid, settings=settings, workers=workers, progress=progress,
                                       spacings=spacings) for p in pantographs]
+        self.workers = int(workers)
+        self.progress = progress
         self.evaluations: dict[float, BandEvaluation] = {}
 
     @property
@@ -169,6 +174,18 @@ class FleetEvaluator:
         """Simulate several pre-sags for every type (what a type has simulated before is reused)."""
         presags = [float(s) for s in presags]
         new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
+        pairs = [(m, s) for m in self.members for s in new if s not in m.evaluations]
+        if self.workers > 1 and len(pairs) > 1:
+            count = min(self.workers, len(pairs))
+            if self.progress:
+                self.progress(f"{len(pairs)} (pantograph, pre-sag) pairs in {count} processes")
+            # spawn, not fork: the command line's progress display runs a thread
+            with worker_pool(count, "spawn") as pool:
+                futures = [pool.submit(simulate_band, m.catenary, m.pantograph, m.grid, m.settings, m.static_settings,
+                                       s, None, m.spacings) for m, s in pairs]
+                results = [f.result() for f in futures]
+            for (m, s), evaluation in zip(pairs, results):
+                m._keep(s, evaluation)
         if new:
             parts = [member.evaluate_many(new) for member in self.members]
             for i, s in enumerate(new):

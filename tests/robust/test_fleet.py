@@ -59,6 +59,7 @@ def fleet_of(types, shares):
                            shares=tuple(shares))
     fleet.members = list(types)
     fleet.evaluations = {}
+    fleet.workers, fleet.progress = 1, None
     return fleet
 
 
