@@ -190,7 +190,17 @@ class FleetEvaluator:
             parts = [member.evaluate_many(new) for member in self.members]
             for i, s in enumerate(new):
                 self.evaluations[s] = _joined(s, [part[i] for part in parts])
+                if self.progress:
+                    self.progress(self._summary(self.evaluations[s].statistics))
         return [self.evaluations[s] for s in presags]
+
+
+    def _summary(self, statistics: BandStatistics) -> str:
+        """One line on a simulated pre-sag: each type's largest σ/F_m and uplift."""
+        ratio = statistics.sigma / statistics.mean_force
+        parts = [f"{name} {self.grid.of_type(ratio, k).max():.4f}, {self.grid.of_type(statistics.uplift_max, k).max() * 1e3:.1f} mm"
+                 for k, name in enumerate(self.grid.names)]
+        return f"fleet at S = {statistics.presag_rel * self.reference_span * 1e3:.2f} mm: worst σ/F_m, uplift: " + "; ".join(parts)
 
 
 def _joined(presag_rel: float, parts: list[BandEvaluation]) -> BandEvaluation:
