@@ -32,7 +32,7 @@ def add_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group(
         "installation errors by Monte Carlo (--monte-carlo)",
         "independent errors of every dropper length and every mast's contact-wire and messenger-wire support height; "
-        "the distribution of the design's worst case (P50, P90, P95, P99 with 95 %% order-statistic intervals)",
+        "the distribution of the design's worst case (P50, P90, P95, P99 with 95 % order-statistic intervals)",
     )
     g.add_argument("--monte-carlo", action="store_true", help="the tolerance from random installation errors")
     g.add_argument("--dropper-error", metavar="MM", default=None,
