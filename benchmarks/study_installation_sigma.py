@@ -20,12 +20,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from presag_opt.dynamics.batch import simulate_many  # noqa: E402
-from presag_opt.errors import ModelError  # noqa: E402
-from presag_opt.robust.installation import InstallationErrors, draw_installation_errors  # noqa: E402
-from presag_opt.robust.realisation import installation_response, installed_state  # noqa: E402
-from presag_opt.static.equilibrium import form_find  # noqa: E402
-from tests.robust.test_dynamic_search import CATENARY, GRID, PANTOGRAPH, SETTINGS, SPAN  # noqa: E402
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.errors import ModelError
+from presag_opt.robust.installation import InstallationErrors, draw_installation_errors
+from presag_opt.robust.realisation import installation_response, installed_state
+from presag_opt.static.equilibrium import form_find
+from tests.robust.test_dynamic_search import CATENARY, GRID, PANTOGRAPH, SETTINGS, SPAN
 
 
 def main() -> int:
