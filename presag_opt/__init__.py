@@ -58,6 +58,11 @@ _API = {
         "RobustDesign", "RobustStudy", "SearchSettings", "ToleranceBand", "band_curve", "build_path_model",
         "design_catenary", "dynamic_check", "dynamic_robust_presag", "dynamic_robust_study", "dynamic_tolerance",
         "evaluate_design", "robust_presag", "robust_study", "simulate_band", "tolerance_band",
+        "DropperTolerance", "DynamicMonteCarloResult", "FleetDesign", "FleetEvaluator", "FleetGrid",
+        "InstallationErrors", "InstallationResponse", "InstallationSample", "MonteCarloResult",
+        "QuasiStaticMonteCarlo", "check_realisation", "draw_installation_errors", "dynamic_monte_carlo",
+        "fleet_robust_presag", "fleet_robust_study", "installation_response", "installed_state",
+        "largest_dropper_tolerance", "percentile_summary",
     ),
     "presag_opt.validation": (
         "EN50318_RANGES", "PAPER_RECOMMENDATION", "PAPER_SINGLE_CURVE_ERROR", "PAPER_TABLE1",

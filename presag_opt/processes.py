@@ -59,10 +59,6 @@ class WorkerPolicy(enum.Enum):
     INHERITED = "inherited"
 
 
-_LEGACY = {"spawn": WorkerPolicy.PICKLED, "fork": WorkerPolicy.INHERITED}
-"""Start-method names call sites passed before policies existed, read as the policy they meant."""
-
-
 def pool_available(policy: WorkerPolicy) -> bool:
     """Whether this platform can open a pool of the given policy (``INHERITED`` needs ``fork``)."""
     return policy is not WorkerPolicy.INHERITED or "fork" in multiprocessing.get_all_start_methods()
@@ -88,7 +84,7 @@ def start_method(policy: WorkerPolicy) -> str:
 
 
 @contextmanager
-def worker_pool(workers: int, policy: WorkerPolicy | str = WorkerPolicy.PICKLED) -> Iterator[ProcessPoolExecutor]:
+def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED) -> Iterator[ProcessPoolExecutor]:
     """A process pool that is stopped, workers and all, if the ``with`` block does not finish.
 
     Parameters
@@ -97,9 +93,7 @@ def worker_pool(workers: int, policy: WorkerPolicy | str = WorkerPolicy.PICKLED)
         Worker processes. [-]
     policy : WorkerPolicy
         What the work needs (see :class:`WorkerPolicy`); the start method follows from it.
-        The names ``"spawn"`` and ``"fork"`` are read as ``PICKLED`` and ``INHERITED``.
     """
-    policy = _LEGACY.get(policy, policy) if isinstance(policy, str) else policy
     if not isinstance(policy, WorkerPolicy):
         raise ModelError(f"policy = {policy!r} is not one of {', '.join(p.name for p in WorkerPolicy)}")
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method(policy)),

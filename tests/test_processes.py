@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 
 SCRIPT = Path(sys.executable).parent / "presag"
 SMALL_STUDY = Path(__file__).parent / "studies" / "models" / "small_grid.toml"
@@ -53,7 +53,7 @@ def _wait_until(condition, seconds: float) -> bool:
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
 def test_an_error_inside_the_pool_kills_the_busy_workers():
     with pytest.raises(RuntimeError, match="given up"):
-        with worker_pool(2, "spawn") as pool:
+        with worker_pool(2, WorkerPolicy.PICKLED) as pool:
             futures = [pool.submit(time.sleep, 60) for _ in range(2)]
             assert _wait_until(lambda: all(f.running() for f in futures), 30), "the workers did not start"
             workers = [p.pid for p in pool._processes.values()]

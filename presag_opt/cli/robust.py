@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from presag_opt.cli import tolerance_mc
 from presag_opt.cli.common import (
     add_json_flag,
     band,
@@ -32,6 +33,8 @@ DYNAMIC_DEFAULTS = {
     "uplift_limit": 83.5,
     "grid_points": [4.0, 3.0],
     "workers": min(2, os.cpu_count() or 1),
+    "fleet_shares": None,
+    "second_pantograph_at": None,
 }
 """Options of ``--dynamic`` and their defaults: the case study (F_stat 70–140 N up to 90 km/h, simulated
 from 50 km/h, the paper's lowest grid speed; α_ae 0.00097 N/(km/h)²; uplift limit 83.5 mm)."""
@@ -68,6 +71,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
             _add_check_options(p)
             _add_dynamic_options(p)
+        else:
+            tolerance_mc.add_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
 
 
@@ -101,8 +106,13 @@ def _add_dynamic_options(p: argparse.ArgumentParser) -> None:
                        help="speed band LOW:HIGH in km/h (default %g:%g)" % d["speed"])
     group.add_argument("--objective", choices=("sigma-over-fm", "sigma"), default=None,
                        help=f"loss at each operating point (default {d['objective']})")
-    group.add_argument("--pantograph", metavar="FILE", default=None,
-                       help=f"pantograph model file or built-in name (default {d['pantograph']})")
+    group.add_argument("--pantograph", metavar="FILE[,FILE...]", default=None,
+                       help=f"pantograph model file or built-in name (default {d['pantograph']}); several, comma "
+                       "separated, design for the fleet")
+    group.add_argument("--fleet-shares", metavar="A,B", type=float_list, default=None,
+                       help="share of the passages of each --pantograph type, normalised to sum 1 (default equal)")
+    group.add_argument("--second-pantograph-at", metavar="M", type=positive_float, default=None,
+                       help="every train runs a second raised pantograph of its type this many metres behind")
     group.add_argument("--aero", metavar="N_per_kmh2", type=positive_float, default=None,
                        help=f"aerodynamic uplift coefficient in N/(km/h)^2 (default {d['aero']:g})")
     group.add_argument("--uplift-limit", metavar="MM", type=positive_float, default=None,
@@ -252,6 +262,10 @@ def check_settings(catenary):
 
 def tolerance_command(args: argparse.Namespace) -> int:
     """``presag tolerance``: the installation tolerance interval of the robust study."""
+    tolerance_mc.check_options(args)
+    if args.monte_carlo:
+        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a)[0], parse_within(args.within),
+                                                 DYNAMIC_DEFAULTS)
     study, plot = _study(args)
     _plot(args, study, plot)
     data = study.to_dict()
@@ -308,7 +322,12 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     within = parse_within(args.within)
     plot = output_path(args.plot) if args.plot else None
     catenary = load_catenary(args.model)
-    pantograph = load_pantograph(_dynamic_option(args, "pantograph"))
+    names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
+    if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
+        if plot:
+            raise ModelError("--plot is not drawn for a fleet design; drop it")
+        return _fleet_command(args, catenary, names, band, objective, within, points)
+    pantograph = load_pantograph(names[0])
     with progress(args) as report:
         study = dynamic_robust_study(catenary, pantograph, band, objective=objective, within=within,
                                      static_points=int(points[0]), speed_points=int(points[1]),
@@ -341,4 +360,42 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     print(f"Recommendation: build the {data['recommendation']['method']} design — {data['recommendation']['reason']}")
     if plot:
         print(f"Plot saved to {written}")
+    return 0
+
+
+def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, objective, within: float,
+                   points) -> int:
+    """``presag robust --dynamic --pantograph A,B,...``: the fleet design beside each type's own optimum."""
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.robust.fleet import fleet_robust_study
+
+    shares = args.fleet_shares
+    if shares is not None:
+        if len(shares) != len(names) or any(s < 0 for s in shares) or sum(shares) <= 0:
+            raise ModelError(f"--fleet-shares {','.join(f'{s:g}' for s in shares)}: give {len(names)} non-negative "
+                             "shares, one per --pantograph type, not all zero")
+        shares = [s / sum(shares) for s in shares]
+    pantographs = [load_pantograph(n) for n in names]
+    with progress(args) as report:
+        design = fleet_robust_study(catenary, pantographs, band, shares=shares, spacing=args.second_pantograph_at,
+                                    objective=objective, within=within, static_points=int(points[0]),
+                                    speed_points=int(points[1]), workers=_dynamic_option(args, "workers"),
+                                    progress=report)
+    data = design.to_dict()
+    data["catenary"] = catenary.name
+    print_warnings(data["warnings"])
+    if args.json:
+        print_json(data)
+        return 0
+    fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
+    train = "" if data["second_pantograph_at_m"] is None else f", two raised pantographs {data['second_pantograph_at_m']:g} m apart"
+    print(f"Fleet robust pre-sag: {catenary.name}; {', '.join(f'{n} ({s:.0%})' for n, s in zip(data['pantographs'], data['fleet_shares']))}{train}")
+    rows = [("fleet design", data["presag_mm"], data["objective"], data["worst_case_objective"], data["uplift_max_mm"])]
+    rows += [(f"own optimum of {t['pantograph']}", t["own_presag_mm"], t["fleet_objective"],
+              t["fleet_worst_case_objective"], t["fleet_uplift_max_mm"]) for t in data["per_pantograph"]]
+    print(table(["design", f"S on {data['reference_span_m']:g} m [mm]", f"fleet {data['risk']}", "fleet worst case",
+                 "fleet max uplift [mm]"], rows, ["{}", "{:.1f}", fmt, fmt, "{:.1f}"]))
+    low, high = data["tolerance_mm"]
+    print(f"\nTolerance of the fleet design (fleet worst case within {100 * within:g} %): {low:.1f}–{high:.1f} mm")
+    print(f"Simulation: {data['runs_used']} runs, {data['wall_time_s']:.0f} s")
     return 0

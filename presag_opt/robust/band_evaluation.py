@@ -79,8 +79,9 @@ class BandEvaluation:
     statistics : BandStatistics
         Statistics at every point (``simulated`` True).
     histories : tuple of ndarray
-        Filtered contact force of the leading pantograph inside each run's analysis window, in the
-        grid's order: F_m and σ are their mean and standard deviation. [N]
+        Filtered contact force of each pantograph inside its analysis window, in the grid's order
+        (with several pantographs: every pantograph of a run, front to rear, before the next run):
+        F_m and σ are their mean and standard deviation. [N]
     loss_of_contact : ndarray
         Share of each run's window without contact (raw force). [-]
     wall_time : float
@@ -104,8 +105,12 @@ def simulate_band(
     static_settings: StaticSettings,
     presag_rel: float,
     progress: Callable[[str], None] | None = None,
+    spacings: tuple[float, ...] | None = None,
 ) -> BandEvaluation:
     """Form-find one parabolic pre-sag and run every point of the grid in one batch.
+
+    With several pantographs (``spacings``) every pantograph of a run is a point of its own: its
+    statistics, and the run's steady-arm uplift.
 
     Parameters
     ----------
@@ -123,6 +128,8 @@ def simulate_band(
         Relative pre-sag S_rel. [-]
     progress : callable, optional
         Called with a short message before the form-finding and after each batch of runs.
+    spacings : tuple of float, optional
+        Distances between consecutive pantographs of the train, front to rear. [m]
 
     Raises
     ------
@@ -142,26 +149,27 @@ def simulate_band(
         raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
                                f"{str(exc).splitlines()[0]}", exc.stats) from None
     points = grid.points()
-    batch = simulate_many(state, pantograph, points, settings=settings, keep_histories=True,
+    batch = simulate_many(state, pantograph, points, spacings=spacings, settings=settings, keep_histories=True,
                           progress=(lambda message: progress(f"{label}: {message}")) if progress else None)
-    histories, loss = [], []
+    histories, loss, uplift = [], [], []
     for run in batch.runs:
         if not run.ok:
             p = run.point
             raise ConvergenceError(
                 f"dynamic robust pre-sag: the run at {label}, {p.speed / KMH:g} km/h, F_stat {p.static_force:g} N "
                 f"failed: {run.error}", {"presag_rel": presag_rel, "error": run.error})
-        stats = run.statistics[0]
-        filtered = lowpass_filter(run.time, run.contact_force[:, 0], cutoff=settings.cutoff_frequency)
-        histories.append(filtered[window_mask(run.time, stats.window_start, stats.window_end,
-                                              settings.cutoff_frequency)])
-        loss.append(stats.loss_of_contact)
+        for j, stats in enumerate(run.statistics):
+            filtered = lowpass_filter(run.time, run.contact_force[:, j], cutoff=settings.cutoff_frequency)
+            histories.append(filtered[window_mask(run.time, stats.window_start, stats.window_end,
+                                                  settings.cutoff_frequency)])
+            loss.append(stats.loss_of_contact)
+            uplift.append(run.uplift_max)
     return BandEvaluation(
         statistics=BandStatistics(
             presag_rel=presag_rel,
             mean_force=np.array([np.mean(h) for h in histories]),
             sigma=np.array([np.std(h) for h in histories]),
-            uplift_max=np.array([run.uplift_max for run in batch.runs]),
+            uplift_max=np.array(uplift),
         ),
         histories=tuple(histories),
         loss_of_contact=np.array(loss),
@@ -188,6 +196,9 @@ class BandEvaluator:
         (:meth:`evaluate_many`); 1 simulates in this process. [-]
     progress : callable, optional
         Called with a short message before each form-finding and after each batch of runs.
+    spacings : tuple of float, optional
+        Distances between consecutive pantographs of the train, front to rear (every pantograph of
+        a run is then a point of the statistics). [m]
 
     Attributes
     ----------
@@ -206,6 +217,7 @@ class BandEvaluator:
         settings: SimulationSettings | None = None,
         workers: int = 1,
         progress: Callable[[str], None] | None = None,
+        spacings: tuple[float, ...] | None = None,
     ):
         if workers != int(workers) or not 1 <= workers <= 64:
             raise ModelError(f"workers = {workers} is outside the valid range [1, 64]")
@@ -213,10 +225,11 @@ class BandEvaluator:
         self.pantograph = pantograph
         self.grid = grid
         self.settings = settings or SimulationSettings(numerics="auto")
-        grid.check(catenary, pantograph, self.settings)
+        grid.check(catenary, pantograph, self.settings, spacings)
         self.static_settings = band_static_settings(catenary, grid.speeds, self.settings)
         self.workers = int(workers)
         self.progress = progress
+        self.spacings = tuple(spacings) if spacings else None
         self.evaluations: dict[float, BandEvaluation] = {}
         self.runs_used = 0
 
@@ -259,13 +272,13 @@ class BandEvaluator:
             if self.progress:
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
             with worker_pool(count, WorkerPolicy.PICKLED) as pool:
-                futures = [pool.submit(simulate_band, *common, s) for s in new]
+                futures = [pool.submit(simulate_band, *common, s, None, self.spacings) for s in new]
                 results = [f.result() for f in futures]
             for s, evaluation in zip(new, results):
                 self._keep(s, evaluation)
         else:
             for s in new:
-                self._keep(s, simulate_band(*common, s, progress=self.progress))
+                self._keep(s, simulate_band(*common, s, progress=self.progress, spacings=self.spacings))
         return [self.evaluations[s] for s in presags]
 
     def _keep(self, presag_rel: float, evaluation: BandEvaluation) -> None:

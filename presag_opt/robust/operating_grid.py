@@ -114,8 +114,10 @@ class OperatingGrid:
         return (float(mean_contact_force(self.static_forces[0], self.speeds[0], self.aero_coefficient)),
                 float(mean_contact_force(self.static_forces[-1], self.speeds[-1], self.aero_coefficient)))
 
-    def check(self, catenary: Catenary, pantograph: Pantograph, settings: SimulationSettings) -> None:
-        """Refuse, before any work, a grid the catenary cannot be simulated at.
+    def check(self, catenary: Catenary, pantograph: Pantograph, settings: SimulationSettings,
+              spacings: tuple[float, ...] | None = None) -> None:
+        """Refuse, before any work, a grid the catenary cannot be simulated at (with the pantograph
+        spacings of the train, if several, in m).
 
         Raises
         ------
@@ -132,7 +134,7 @@ class OperatingGrid:
         for p in self.points():
             try:
                 plan_run(catenary, pantograph, speed=p.speed, static_force=p.static_force,
-                         aero_coefficient=p.aero_coefficient, settings=settings)
+                         aero_coefficient=p.aero_coefficient, spacings=spacings, settings=settings)
             except ModelError as exc:
                 raise ModelError(f"operating point {p.speed / KMH:g} km/h, {p.static_force:g} N: {exc}") from None
 

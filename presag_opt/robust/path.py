@@ -65,6 +65,8 @@ class PathModel:
         Length of each design dropper in the reference geometry. [m]
     length_sensitivity : ndarray
         ∂(dropper length)/∂(depth) of each design dropper for each depth. [m/m]
+    nodes : ndarray of int
+        Node of the state at each path point. [-]
     """
 
     state: EquilibriumState
@@ -78,6 +80,7 @@ class PathModel:
     reference_depth: np.ndarray
     dropper_length: np.ndarray
     length_sensitivity: np.ndarray
+    nodes: np.ndarray
     _problems: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -173,4 +176,5 @@ def build_path_model(state: EquilibriumState, section: SectionElasticity) -> Pat
         reference_depth=support - state.positions[drop_cw, 2],
         dropper_length=state.dropper_lengths()[design],
         length_sensitivity=-(sens_all[drop_mw] - sens_all[drop_cw]),
+        nodes=nodes,
     )

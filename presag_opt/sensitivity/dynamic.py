@@ -31,7 +31,7 @@ import numpy as np
 import xarray as xr
 
 from presag_opt.errors import ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
@@ -229,7 +229,7 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
         for i, group in tasks:
             collect(i, run_units(definitions[i], group))
     else:
-        with worker_pool(min(workers, len(tasks)), "spawn") as pool:
+        with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED) as pool:
             futures = {pool.submit(run_units, definitions[i], group): i for i, group in tasks}
             for future in as_completed(futures):
                 collect(futures[future], future.result())

@@ -34,7 +34,7 @@ from SALib.sample import morris as morris_sample
 from SALib.sample import sobol as sobol_sample
 
 from presag_opt.errors import ModelError
-from presag_opt.processes import worker_pool
+from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.sensitivity.inputs import SensitivityInput
 from presag_opt.studies.store import write_atomic
 
@@ -279,7 +279,7 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
             done += 1
             finish(i, function(rows[i]), done)
     else:
-        with worker_pool(min(workers, len(pending)), "spawn") as pool:
+        with worker_pool(min(workers, len(pending)), WorkerPolicy.PICKLED) as pool:
             futures = {pool.submit(function, rows[i]): i for i in pending}
             for future in as_completed(futures):
                 done += 1

@@ -1,0 +1,233 @@
+"""``presag tolerance --monte-carlo``: the installation tolerance as a line crew makes it.
+
+Independent errors of each dropper's length and of each mast's contact-wire (registration) and
+messenger-wire support heights, drawn many times; the distribution of the design's worst case
+(quasi-static: waviness R over the F_m band; ``--dynamic``: σ/F_m, F_m − 3σ and the steady-arm uplift
+over the band's grid of static forces × speeds) with percentiles and their confidence intervals; or
+(``--find-dropper-tolerance``) the largest per-dropper error whose P95 stays within ``--within`` of
+the error-free design, beside the pre-sag interval of ``presag tolerance``. The options are
+registered on ``presag tolerance`` by :mod:`presag_opt.cli.robust`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from presag_opt.cli.common import output_path, print_json, progress, table
+from presag_opt.errors import ModelError
+
+MAX_ERROR_MM = 100.0
+"""Largest error size accepted on the command line. [mm]"""
+
+MAX_SAMPLES = 1_000_000
+"""Most realisations. [-]"""
+
+DEFAULT_SAMPLES = {"quasi-static": 10_000, "dynamic": 100}
+"""Realisations by default: quasi-static (about a second), dynamic (tens of minutes on 2 cores)."""
+
+
+def add_options(p: argparse.ArgumentParser) -> None:
+    """The Monte Carlo options of ``presag tolerance``."""
+    g = p.add_argument_group(
+        "installation errors by Monte Carlo (--monte-carlo)",
+        "independent errors of every dropper length and every mast's contact-wire and messenger-wire support height; "
+        "the distribution of the design's worst case (P50, P90, P95, P99 with 95 % order-statistic intervals)",
+    )
+    g.add_argument("--monte-carlo", action="store_true", help="the tolerance from random installation errors")
+    g.add_argument("--dropper-error", metavar="MM", default=None,
+                   help="size of each dropper's length error in mm: σ (normal) or t of ±t (uniform)")
+    g.add_argument("--height-error", metavar="MM", default=None,
+                   help="size of each mast's contact-wire and messenger-support height errors in mm (default 0)")
+    g.add_argument("--distribution", choices=("normal", "uniform"), default="normal",
+                   help="normal (size = σ, default) or uniform within ±size")
+    g.add_argument("--samples", metavar="N", default=None,
+                   help=f"realisations (default {DEFAULT_SAMPLES['quasi-static']} quasi-static, "
+                   f"{DEFAULT_SAMPLES['dynamic']} with --dynamic)")
+    g.add_argument("--seed", metavar="N", default="0", help="seed of the random draws (default 0)")
+    g.add_argument("--presag-mm", metavar="MM", default=None,
+                   help="the design's pre-sag on the reference span in mm (default the robust parabola of the band)")
+    g.add_argument("--dynamic", action="store_true",
+                   help="simulate every realisation over F_stat 70–140 N × 50–90 km/h (4 × 3 points, the case-study "
+                   "pantograph, α_ae 0.00097 N/(km/h)^2)")
+    g.add_argument("--workers", metavar="N", default="2", help="processes of --dynamic (default 2)")
+    g.add_argument("--find-dropper-tolerance", action="store_true",
+                   help="the largest dropper error whose P95 stays within --within of the error-free design")
+
+
+def _number(args, name: str, unit: str, low: float, high: float, *, integer: bool = False, default=None):
+    text = getattr(args, name)
+    option = "--" + name.replace("_", "-")
+    if text is None:
+        return default
+    try:
+        value = int(text) if integer else float(text)
+    except ValueError:
+        raise ModelError(f"{option} = {text!r} is not a {'whole ' if integer else ''}number; valid range "
+                         f"[{low:g}, {high:g}]{(' ' + unit) if unit else ''}") from None
+    if not math.isfinite(value) or not low <= value <= high:
+        raise ModelError(f"{option} = {text} {unit} is outside the valid range [{low:g}, {high:g}] {unit}".replace("  ", " "))
+    return value
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Refuse Monte Carlo options without ``--monte-carlo`` (one line, before any work)."""
+    if args.monte_carlo:
+        return
+    for name in ("dropper_error", "height_error", "samples", "presag_mm"):
+        if getattr(args, name) is not None:
+            raise ModelError(f"--{name.replace('_', '-')} is an option of the Monte Carlo; add --monte-carlo")
+    for name in ("dynamic", "find_dropper_tolerance"):
+        if getattr(args, name):
+            raise ModelError(f"--{name.replace('_', '-')} is an option of the Monte Carlo; add --monte-carlo")
+    if args.distribution != "normal" or args.seed != "0" or args.workers != "2":
+        raise ModelError("--distribution, --seed and --workers are options of the Monte Carlo; add --monte-carlo")
+
+
+def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dynamic_defaults: dict) -> int:
+    """``presag tolerance --monte-carlo``; ``study_for(args)`` gives the quasi-static robust study,
+    ``dynamic_defaults`` the band, grid, pantograph and α_ae of ``presag robust --dynamic``."""
+    from presag_opt.robust.installation import InstallationErrors
+
+    dropper = _number(args, "dropper_error", "mm", 0.0, MAX_ERROR_MM)
+    height = _number(args, "height_error", "mm", 0.0, MAX_ERROR_MM, default=0.0)
+    kind = "dynamic" if args.dynamic else "quasi-static"
+    samples = _number(args, "samples", "", 1, MAX_SAMPLES, integer=True, default=DEFAULT_SAMPLES[kind])
+    seed = _number(args, "seed", "", 0, 2**32 - 1, integer=True)
+    workers = _number(args, "workers", "", 1, 64, integer=True)
+    presag_mm = _number(args, "presag_mm", "mm", 0.0, 1000.0)
+    if args.find_dropper_tolerance:
+        if args.dynamic:
+            raise ModelError("--find-dropper-tolerance is quasi-static; drop --dynamic")
+        if dropper is not None:
+            raise ModelError("--find-dropper-tolerance searches the dropper error; drop --dropper-error")
+    elif dropper is None:
+        raise ModelError("--monte-carlo needs --dropper-error MM (or --find-dropper-tolerance)")
+    plot = output_path(args.plot) if args.plot else None
+    errors = InstallationErrors(dropper_length=(dropper or 0.0) * 1e-3, contact_wire_height=height * 1e-3,
+                                messenger_height=height * 1e-3, distribution=args.distribution)
+    study = study_for(args)
+    span = study.reference_span
+    presag_rel = study.robust_parabola.presag_rel if presag_mm is None else presag_mm * 1e-3 / span
+    if args.dynamic:
+        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers, dynamic_defaults)
+    else:
+        data, result = _quasi_static(args, study, presag_rel, errors, samples, seed, within)
+    data.update(catenary=study.catenary_name, reference_span_m=span, presag_mm=presag_rel * span * 1e3,
+                samples=samples, seed=seed, distribution=args.distribution,
+                height_error_mm=height, s_interval_mm=[study.tolerance.low * span * 1e3, study.tolerance.high * span * 1e3],
+                s_interval_within=study.tolerance.within)
+    if plot:
+        _plot(result, data, plot)
+    if args.json:
+        print_json(data)
+        return 0
+    _print(data)
+    if plot:
+        print(f"Plot saved to {plot}")
+    return 0
+
+
+def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
+    from presag_opt.robust.monte_carlo import (
+        QuasiStaticMonteCarlo,
+        largest_dropper_tolerance,
+    )
+
+    with progress(args) as report:
+        report("linearised installation response of the section")
+        mc = QuasiStaticMonteCarlo(study.path, study.path.parabola_depths(presag_rel), study.scenarios)
+        if args.find_dropper_tolerance:
+            report(f"bisection of the dropper error on {samples} realisations")
+            found = largest_dropper_tolerance(mc, errors, within=within, samples=samples, seed=seed)
+            result = found.at_tolerance
+        else:
+            report(f"{samples} realisations")
+            result = mc.run(errors, samples=samples, seed=seed)
+    data = {"kind": "quasi-static", "measure": "worst-case waviness R over the F_m band", "unit": "mm",
+            "fm_band_N": [float(study.scenarios.forces.min()), float(study.scenarios.forces.max())],
+            "dropper_error_mm": result.errors.dropper_length * 1e3,
+            "nominal_worst_case": result.nominal_worst_case * 1e3,
+            **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles.items()},
+            "confidence": result.confidence}
+    if args.find_dropper_tolerance:
+        data.update(largest_dropper_error_mm=found.tolerance * 1e3, within=found.within, held_percentile=found.level,
+                    resolution_mm=found.resolution * 1e3)
+    return data, result.worst_case * 1e3
+
+
+def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
+    from presag_opt.design.band import KMH, OperatingBand
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.dynamics.settings import SimulationSettings
+    from presag_opt.robust import OperatingGrid
+    from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
+    from presag_opt.system.loader import load_catenary
+
+    (f_low, f_high), (v_low, v_high) = d["static_force"], d["speed"]
+    band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
+                         speed_high=v_high * KMH, aero_coefficient=d["aero"] / KMH**2)
+    grid = OperatingGrid.from_band(band, static_points=int(d["grid_points"][0]), speed_points=int(d["grid_points"][1]))
+    with progress(args, total=samples) as report:
+        result = dynamic_monte_carlo(load_catenary(args.model), load_pantograph(d["pantograph"]), grid, presag_rel,
+                                     errors, samples=samples, seed=seed, workers=workers, chunk=2,
+                                     settings=SimulationSettings(numerics="auto"), progress=report)
+    sig = result.percentiles["worst_sigma_over_fm"]
+    data = {"kind": "dynamic", "measure": "worst σ/F_m over the grid", "unit": "-",
+            "grid": {"static_forces_N": list(grid.static_forces), "speeds_kmh": [v / KMH for v in grid.speeds]},
+            "pantograph": d["pantograph"], "dropper_error_mm": errors.dropper_length * 1e3,
+            "nominal_worst_case": result.nominal.worst_sigma_over_fm,
+            **{f"p{k}": p.to_dict() for k, p in sig.items()},
+            "smallest_statistical_min_N": {"nominal": result.nominal.smallest_statistical_min,
+                                           **{f"p{k}": p.to_dict() for k, p in
+                                              result.percentiles["smallest_statistical_min"].items()}},
+            "largest_uplift_mm": {"nominal": result.nominal.largest_uplift * 1e3,
+                                  **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles["largest_uplift"].items()}},
+            "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers}
+    return data, result.values("worst_sigma_over_fm")
+
+
+def _print(data: dict) -> None:
+    unit = "" if data["unit"] == "-" else f" [{data['unit']}]"
+    fmt = "{:.4f}" if data["unit"] == "-" else "{:.2f}"
+    print(f"Installation errors by Monte Carlo: {data['catenary']}, S = {data['presag_mm']:.1f} mm on "
+          f"{data['reference_span_m']:g} m, {data['kind']}")
+    print(f"errors per dropper {data['dropper_error_mm']:.2f} mm, per mast height {data['height_error_mm']:.2f} mm "
+          f"({data['distribution']}: {'σ' if data['distribution'] == 'normal' else '±t'}); {data['samples']} "
+          f"realisations, seed {data['seed']}")
+    rows = [("error-free", data["nominal_worst_case"], None, None)]
+    rows += [(f"P{k}", data[f"p{k}"]["value"], *data[f"p{k}"]["ci"]) for k in (50, 90, 95, 99)]
+    print(table([data["measure"] + unit, "value", "95 % CI low", "95 % CI high"], rows, ["{}", fmt, fmt, fmt]))
+    if data["kind"] == "dynamic":
+        for key, name in (("smallest_statistical_min_N", "smallest F_m − 3σ [N]"),
+                          ("largest_uplift_mm", "largest steady-arm uplift [mm]")):
+            part = data[key]
+            print(f"{name}: error-free {part['nominal']:.1f}; " + ", ".join(
+                f"P{k} {part[f'p{k}']['value']:.1f}" for k in (50, 90, 95, 99)))
+        print(f"simulation: {data['wall_time_s']:.0f} s with {data['workers']} workers")
+    if "largest_dropper_error_mm" in data:
+        low, high = data["s_interval_mm"]
+        print(f"\nLargest dropper error with P{data['held_percentile']} within {data['within'] * 100:g} % of the "
+              f"error-free design: {data['largest_dropper_error_mm']:.2f} mm ({data['distribution']}); "
+              f"the pre-sag interval within {data['s_interval_within'] * 100:g} %: {low:.1f}–{high:.1f} mm")
+
+
+def _plot(values, data: dict, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    ax.hist(values, bins=min(60, max(10, len(values) // 50)), color="0.7")
+    ax.axvline(data["nominal_worst_case"], color="k", label="error-free")
+    ax.axvline(data["p95"]["value"], color="C3", linestyle="--", label="P95")
+    unit = "" if data["unit"] == "-" else f" [{data['unit']}]"
+    ax.set_xlabel(data["measure"] + unit)
+    ax.set_ylabel("realisations")
+    ax.set_title(f"S = {data['presag_mm']:.1f} mm, dropper {data['dropper_error_mm']:.1f} mm, height "
+                 f"{data['height_error_mm']:.1f} mm ({data['distribution']})", fontsize=9)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
