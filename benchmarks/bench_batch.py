@@ -51,10 +51,10 @@ def _case_and_state(presag_mm: float = 30.0):
 
 
 def side_by_side(repeat: int) -> None:
-    from presag_opt.native import sweeps as native_sweeps
     from presag_opt.dynamics.batch import simulate_many
     from presag_opt.dynamics.settings import OperatingPoint
     from presag_opt.dynamics.simulate import simulate
+    from presag_opt.native import sweeps as native_sweeps
 
     case, settings, state = _case_and_state()
     aero = case.operation.aero_coefficient
@@ -68,7 +68,7 @@ def side_by_side(repeat: int) -> None:
     times: dict[str, list[float]] = {name: [] for name in builds}
     results = {}
     try:
-        for name, switch in builds.items():  # compile and warm up
+        for switch in builds.values():  # compile and warm up
             native_sweeps.available = switch
             simulate_many(state, case.pantograph, points[-1:], settings=settings)
         for _ in range(repeat):  # alternate, so that both see the same machine

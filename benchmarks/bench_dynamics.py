@@ -31,7 +31,6 @@ from presag_opt.static.form_finding import form_find
 from presag_opt.validation import en50318_verdicts
 
 
-
 def timed(fn, repeat: int):
     """Median wall time [s], median CPU time of this process [s] and the last result."""
     wall, cpu, result = [], [], None

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from presag_opt.contact_force import KMH
 from presag_opt.elasticity import ElasticityStudy
 from presag_opt.style import legend_outside, new_figure, save_figure
 
@@ -141,7 +142,7 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
         stats = run.statistics
         ax.axhline(stats.mean_force, color="k", linewidth=0.8, linestyle="--")
         ax.set_title(
-            f"{run.catenary_name}: {run.operation.speed * 3.6:g} km/h (β = {run.speed_ratio:.2f}), "
+            f"{run.catenary_name}: {run.operation.speed / KMH:g} km/h (β = {run.speed_ratio:.2f}), "
             f"F_m = {stats.mean_force:.1f} N, σ = {stats.std_force:.1f} N",
             fontsize=9,
         )
@@ -165,7 +166,7 @@ def plot_batch_statistics(batch: BatchResult, path: str | Path) -> Path:
     forces = sorted({r.point.static_force for r in batch.runs})
     for i, force in enumerate(forces):
         runs = sorted((r for r in batch.runs if r.ok and r.point.static_force == force), key=lambda r: r.point.speed)
-        speed = [r.point.speed * 3.6 for r in runs]
+        speed = [r.point.speed / KMH for r in runs]
         top.plot(speed, [r.statistics[0].sigma_over_mean for r in runs], "o-", color=f"C{i}", label=f"{force:g} N")
         bottom.plot(speed, [r.statistics[0].std_force for r in runs], "o-", color=f"C{i}")
     top.set_ylabel("σ/F_m [-]")
@@ -288,7 +289,7 @@ def plot_crawling(check: CrawlingCheck, path: str | Path) -> Path:
     top.set_ylabel("contact-wire uplift [mm]")
     bottom.set_ylabel("difference [%]")
     bottom.set_xlabel("position in the span [m]")
-    top.set_title(f"{check.speed * 3.6:g} km/h (β = {check.beta:.3f}), {check.static_force:g} N")
+    top.set_title(f"{check.speed / KMH:g} km/h (β = {check.beta:.3f}), {check.static_force:g} N")
     legend_outside(fig, top)
     return save_figure(fig, path)
 
@@ -331,7 +332,7 @@ def plot_convergence(study: ConvergenceStudy, path: str | Path) -> Path:
     sigma = np.array([r.std_force for r in study.rungs])
     for j, speed in enumerate(study.rungs[0].speeds):
         ax.plot(range(len(labels)), sigma[:, j], "o-", color=f"C{j}",
-                label=f"{speed * 3.6:g} km/h (β = {study.rungs[0].betas[j]:.2f})")
+                label=f"{speed / KMH:g} km/h (β = {study.rungs[0].betas[j]:.2f})")
     ax.set_xticks(range(len(labels)), labels)
     ax.set_xlabel("element length / time step [m / ms]")
     ax.set_ylabel("contact-force standard deviation σ [N]")
@@ -393,7 +394,7 @@ def plot_mixed_findings(findings: Sequence[MixedFinding], path: str | Path,
         rows.append(("paper (section 5.2)", tuple(v * 1e-3 for v in paper["ideal"]),
                      tuple(v * 1e-3 for v in paper["mixed"])))
     fig, ax = new_figure(height=0.5 * len(rows) + 1.2, legend=True)
-    for i, (label, ideal, mixed) in enumerate(rows):
+    for i, (_, ideal, mixed) in enumerate(rows):
         ax.plot(np.array(ideal) * 1e3, [i + 0.12] * 2, color="C0", lw=5, label="ideal spans" if i == 0 else None)
         ax.plot(np.array(mixed) * 1e3, [i - 0.12] * 2, color="C1", lw=5, label="mixed spans" if i == 0 else None)
     ax.set_yticks(range(len(rows)), [r[0] for r in rows])
@@ -438,6 +439,6 @@ def plot_dynamic_objective(study, path: str | Path) -> Path:
     ax.set_ylabel("σ/F_m" if design.loss == "sigma-over-fm" else "σ [N]")
     band = study.band
     ax.set_title(f"{study.catenary_name}: F_stat {band.static_force_low:g}–{band.static_force_high:g} N, "
-                 f"{band.speed_low * 3.6:g}–{band.speed_high * 3.6:g} km/h (β {study.beta[0]:.2f}–{study.beta[1]:.2f})")
+                 f"{band.speed_low / KMH:g}–{band.speed_high / KMH:g} km/h (β {study.beta[0]:.2f}–{study.beta[1]:.2f})")
     legend_outside(fig, ax)
     return save_figure(fig, path)

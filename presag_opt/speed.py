@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import warnings
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 
 SPEED_RATIO_LIMIT = 0.7
@@ -103,8 +104,8 @@ def check_speed_limit(speed: float, wave_speed: float, *, accept: str = "allow_s
     beta = speed / wave_speed
     if beta >= SPEED_RATIO_LIMIT:
         raise ModelError(
-            f"speed = {speed * 3.6:g} km/h is β = {beta:.2f} of the contact-wire wave speed {wave_speed * 3.6:.0f} km/h, "
-            f"at or above the EN 50119 limit β < {SPEED_RATIO_LIMIT} (speeds below {SPEED_RATIO_LIMIT * wave_speed * 3.6:.0f} "
+            f"speed = {speed / KMH:g} km/h is β = {beta:.2f} of the contact-wire wave speed {wave_speed / KMH:.0f} km/h, "
+            f"at or above the EN 50119 limit β < {SPEED_RATIO_LIMIT} (speeds below {SPEED_RATIO_LIMIT * wave_speed / KMH:.0f} "
             f"km/h); give {accept} to run it anyway"
         )
 
@@ -115,7 +116,7 @@ def _check_below_wave_speed(speed: float, wave_speed: float) -> None:
         raise ModelError(f"wave_speed = {wave_speed!r} m/s must be positive")
     if not 0.0 <= speed < wave_speed:
         raise ModelError(
-            f"speed = {speed * 3.6:g} km/h is outside the valid range [0, {wave_speed * 3.6:g}) km/h "
+            f"speed = {speed / KMH:g} km/h is outside the valid range [0, {wave_speed / KMH:g}) km/h "
             f"(below the contact-wire wave speed {wave_speed:g} m/s)"
         )
 

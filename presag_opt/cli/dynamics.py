@@ -19,6 +19,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.contact_force import KMH
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
 from presag_opt.speed import check_speed_limit
@@ -113,7 +114,7 @@ def simulate_command(args: argparse.Namespace) -> int:
     case = _case(args)
     if args.plot:
         args.plot = str(output_path(args.plot))
-    speeds = case.speeds if args.speed is None else tuple(v / 3.6 for v in args.speed)
+    speeds = case.speeds if args.speed is None else tuple(v * KMH for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = _settings(args, case.settings)
     if not args.allow_supercritical:
@@ -236,8 +237,8 @@ def _case(args: argparse.Namespace) -> SimulationCase:
             description="",
             catenary=catenary,
             pantograph=load_pantograph(args.pantograph),
-            operation=Operation(speed=args.speed[0] / 3.6, static_force=args.static_force[0]),
-            speeds=tuple(v / 3.6 for v in args.speed),
+            operation=Operation(speed=args.speed[0] * KMH, static_force=args.static_force[0]),
+            speeds=tuple(v * KMH for v in args.speed),
             settings=SimulationSettings(),
         )
     else:
@@ -248,7 +249,7 @@ def _case(args: argparse.Namespace) -> SimulationCase:
     if args.static_force is not None:
         changes["static_force"] = args.static_force[0]
     if args.aero is not None:
-        changes["aero_coefficient"] = args.aero * 3.6**2
+        changes["aero_coefficient"] = args.aero / KMH**2
     if args.spacing is not None:
         changes["spacings"] = tuple(args.spacing)
     case = dataclasses.replace(case, operation=dataclasses.replace(case.operation, **changes))
@@ -267,12 +268,12 @@ def _print_table(case: SimulationCase, results: list[SimulationResult]) -> None:
     print(f"Dynamic simulation: {case.name}")
     print(
         f"catenary: {first.catenary_name}; pantograph: {case.pantograph.name}; F_stat {op.static_force:g} N; "
-        f"aero {op.aero_coefficient / 3.6**2:g} N/(km/h)^2"
+        f"aero {op.aero_coefficient * KMH**2:g} N/(km/h)^2"
     )
     print(
         f"analysed: spans {spans[0] + 1}-{spans[-1] + 1} ({start:g}-{end:g} m), "
         f"filter {first.settings.cutoff_frequency:g} Hz, time step {first.settings.integrator.time_step * 1e3:g} ms, "
-        f"contact-wire wave speed {first.wave_speed * 3.6:.0f} km/h\n"
+        f"contact-wire wave speed {first.wave_speed / KMH:.0f} km/h\n"
     )
     rows = []
     for r in results:
@@ -290,7 +291,7 @@ def _print_table(case: SimulationCase, results: list[SimulationResult]) -> None:
     ))
     for r in results:
         if len(r.pantographs) > 1:
-            print(f"\n{r.operation.speed * 3.6:g} km/h, each pantograph:")
+            print(f"\n{r.operation.speed / KMH:g} km/h, each pantograph:")
             print(table(
                 ["offset [m]", "F_m [N]", "σ [N]", "max [N]", "min [N]", "loss [%]"],
                 [(p.offset, p.statistics.mean_force, p.statistics.std_force, p.statistics.max_force,
@@ -306,12 +307,12 @@ def _print_batch_table(case: SimulationCase, batch) -> None:
     print(f"Dynamic simulation: {case.name}")
     print(
         f"catenary: {batch.catenary_name}; pantograph: {case.pantograph.name}; "
-        f"aero {case.operation.aero_coefficient / 3.6**2:g} N/(km/h)^2; {len(batch.runs)} runs in {batch.wall_time:.1f} s"
+        f"aero {case.operation.aero_coefficient * KMH**2:g} N/(km/h)^2; {len(batch.runs)} runs in {batch.wall_time:.1f} s"
     )
     print(
         f"analysed: spans {first.analysed_spans[0] + 1}-{first.analysed_spans[-1] + 1} ({start:g}-{end:g} m), "
         f"filter {settings.cutoff_frequency:g} Hz, numerics {settings.numerics}, "
-        f"contact-wire wave speed {first.wave_speed * 3.6:.0f} km/h\n"
+        f"contact-wire wave speed {first.wave_speed / KMH:.0f} km/h\n"
     )
     keys = dict(catenary=batch.catenary_name, pantograph=case.pantograph.name)
     rows = []
@@ -330,4 +331,4 @@ def _print_batch_table(case: SimulationCase, batch) -> None:
          "{:.2f}", "{:.1f}", "{}"],
     ))
     for run in batch.failed:
-        print(f"failed: {run.point.speed * 3.6:g} km/h, {run.point.static_force:g} N: {run.error}")
+        print(f"failed: {run.point.speed / KMH:g} km/h, {run.point.static_force:g} N: {run.error}")

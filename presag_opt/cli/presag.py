@@ -17,7 +17,6 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from presag_opt.errors import ModelError
 from presag_opt.design import (
     CASE_STUDY_BAND,
     CASE_STUDY_MODELS,
@@ -30,6 +29,7 @@ from presag_opt.design import (
     Recommendation,
     recommend,
 )
+from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.validation import compare_with_paper
 

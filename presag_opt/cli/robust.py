@@ -19,6 +19,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary
 
@@ -175,7 +176,7 @@ def robust_command(args: argparse.Namespace) -> int:
     catenary = load_catenary(args.model)
     window = check_settings(catenary) if args.check_speeds is not None else None
     if args.check_speeds is not None:
-        wave_speed = catenary.contact_wire.wave_speed * 3.6
+        wave_speed = catenary.contact_wire.wave_speed / KMH
         for speed in args.check_speeds:
             if speed >= wave_speed:
                 raise ModelError(f"--check-speeds {speed:g} km/h is outside the valid range (0, {wave_speed:.0f}) km/h "

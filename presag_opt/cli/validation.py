@@ -14,6 +14,7 @@ from presag_opt.cli.common import (
     print_json,
     table,
 )
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.validation.en50318 import (
     EN50318_RANGES,
@@ -71,7 +72,7 @@ def en50318_command(args: argparse.Namespace) -> int:
     plans = {}
     for speed in args.speed:  # every input is checked before the form-finding starts
         en50318_ranges(speed)
-        plans[speed] = case.plan(speed / 3.6, settings)
+        plans[speed] = case.plan(speed * KMH, settings)
     for static in {p.settings.static.element_length: p.settings.static for p in plans.values()}.values():
         announce_form_finding(args, *form_find_estimate(case.catenary, static))
     states = form_find_states(case.catenary, {(speed, 0.0): plan for speed, plan in plans.items()})
@@ -79,7 +80,7 @@ def en50318_command(args: argparse.Namespace) -> int:
     for speed in args.speed:
         if not args.json:
             print(f"simulating {speed:g} km/h ...", file=sys.stderr, flush=True)
-        stats = case.run(speed / 3.6, state=states[plans[speed].settings.static.element_length],
+        stats = case.run(speed * KMH, state=states[plans[speed].settings.static.element_length],
                          settings=settings).to_dict()
         runs.append((speed, stats, en50318_verdicts(speed, stats)))
     if args.json:

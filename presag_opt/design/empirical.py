@@ -25,7 +25,6 @@ from decimal import ROUND_HALF_UP, Decimal
 
 from presag_opt.system.quantity import quantity, validate_fields
 
-
 EMPIRICAL_K = 4.0
 """Factor k of the empirical mid-span elasticity for simple catenaries (eq. 1). [-]"""
 

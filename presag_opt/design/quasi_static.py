@@ -33,7 +33,6 @@ import numpy as np
 from presag_opt.elasticity import ElasticityCurve
 from presag_opt.errors import ModelError
 
-
 PRESAG_METHODS = ("mid-mast", "delta-e")
 """Quasi-static variants: S = F_m (e_mid − e_mast) (eq. 2 with F_m) and S = F_m Δe (eq. 5)."""
 

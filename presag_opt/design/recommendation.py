@@ -54,7 +54,6 @@ from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.loader import load_catenary
 
-
 CASE_STUDY_MODELS = ("st_9.8_ideal", "st_9.8_mixed")
 """Built-in models of the case study: ST 9,8/9,8 on ideal 60 m spans and on the mixed section."""
 

@@ -18,7 +18,6 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from presag_opt.dynamics import kernel
-from presag_opt.native import sweeps as native_sweeps
 from presag_opt.dynamics.kernel_data import (
     Records,
     Runs,
@@ -34,9 +33,10 @@ from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_cont
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
-from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.native import sweeps as native_sweeps
 from presag_opt.native.banded_numba import banded_cholesky_solve
 from presag_opt.static.banded_solver import BandedSolver
+from presag_opt.static.equilibrium import EquilibriumState
 
 CHUNK_STEPS = 250
 """Time steps per call of the compiled kernel: Ctrl-C is honoured between calls. [-]"""

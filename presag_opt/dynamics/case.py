@@ -16,7 +16,6 @@ loader helpers as the catenary and pantograph files: the ranges are those of
 from __future__ import annotations
 
 import functools
-
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path

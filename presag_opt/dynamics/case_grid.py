@@ -23,6 +23,7 @@ from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
+
 def plan_grid(case: SimulationCase, speeds: Sequence[float], forces: Sequence[float],
               settings: SimulationSettings) -> dict[tuple[float, float], RunPlan]:
     """Check every run of the grid without form-finding.

@@ -22,6 +22,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from presag_opt.contact_force import KMH
 from presag_opt.dynamics.run_plan import RunPlan
 from presag_opt.errors import ModelError
 from presag_opt.static.run_time import form_find_estimate
@@ -139,7 +140,7 @@ def check_run_size(plans: Sequence[RunPlan], estimate: WorkEstimate, *, fix: str
         h = plan.settings.static.element_length
         if plan.settings.numerics == "auto" and h < MIN_AUTO_ELEMENT_LENGTH:
             raise ModelError(
-                f"speed = {plan.operation.speed * 3.6:g} km/h (β = {plan.speed_ratio:.2f}): automatic numerics need "
+                f"speed = {plan.operation.speed / KMH:g} km/h (β = {plan.speed_ratio:.2f}): automatic numerics need "
                 f"elements of {h:g} m, below the limit {MIN_AUTO_ELEMENT_LENGTH:g} m ({estimate.describe()}); give "
                 f"{fix} to fix coarser numerics (σ is then under-resolved, and flagged), or a lower speed"
             )

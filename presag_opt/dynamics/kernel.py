@@ -32,15 +32,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.native import sweeps as native
 from presag_opt.dynamics.batch_newton import (
     STATUS_OK,
     STATUS_RUNNING,
     newton_step,
     nonlinear_forces,
 )
-from presag_opt.native.jit import kernel_function
+from presag_opt.native import sweeps as native
 from presag_opt.native.banded_numba import backward_substitution
+from presag_opt.native.jit import kernel_function
 
 
 @kernel_function

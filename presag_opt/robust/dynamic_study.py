@@ -23,6 +23,7 @@ from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT, speed_context
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
+from presag_opt.errors import ModelError
 from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
 from presag_opt.robust.dynamic_design import (
     DynamicObjective,
@@ -36,7 +37,6 @@ from presag_opt.robust.dynamic_design import (
 from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.study import robust_study
-from presag_opt.errors import ModelError
 from presag_opt.system.catenary import Catenary
 
 DELTA_E, QUASI_STATIC, DYNAMIC = "Δe rule at band centre", "quasi-static robust", "dynamic robust"

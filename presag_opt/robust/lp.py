@@ -37,7 +37,6 @@ from presag_opt.robust.path import PathModel
 from presag_opt.robust.rounding import _round_to_step
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 
-
 SHAPES = ("parabola", "per-dropper")
 
 

@@ -30,7 +30,6 @@ from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import dropper_height_sensitivity
 
-
 SENSITIVITY_CUTOFF = 1e-9
 """Geometry sensitivities smaller than this are round-off of the implicit-function solve. [m/m]"""
 
@@ -114,7 +113,7 @@ class PathModel:
     def uplift(self, forces: np.ndarray) -> np.ndarray:
         """F·e(x; F) at every path point for every force (K × points). [m]"""
         out = np.empty((len(forces), len(self.node_span)))
-        for s_index, study in enumerate(self.section.studies):
+        for study in self.section.studies:
             sel = self.node_span == study.span
             for k, force in enumerate(forces):
                 curve = interpolate_elasticity(study.nonlinear, float(force))

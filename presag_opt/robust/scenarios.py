@@ -21,7 +21,6 @@ import numpy as np
 from presag_opt.design.band import OperatingBand, mean_contact_force
 from presag_opt.errors import ModelError
 
-
 MAX_MEAN_FORCE = 1000.0
 """Highest mean contact force of a design band (the elasticity is computed up to this and beyond). [N]"""
 
@@ -53,7 +52,7 @@ class ForceScenarios:
         object.__setattr__(self, "weights", weights)
 
     @classmethod
-    def band(cls, low: float, high: float, count: int = 17) -> "ForceScenarios":
+    def band(cls, low: float, high: float, count: int = 17) -> ForceScenarios:
         """Evenly spaced forces over [low, high], equally likely.
 
         Parameters
@@ -75,7 +74,7 @@ class ForceScenarios:
         return cls(forces=forces, weights=np.full(count, 1.0 / count))
 
     @classmethod
-    def from_operating_band(cls, band: OperatingBand, static_points: int = 8, speed_points: int = 8) -> "ForceScenarios":
+    def from_operating_band(cls, band: OperatingBand, static_points: int = 8, speed_points: int = 8) -> ForceScenarios:
         """F_m = F_stat + α_ae v² for F_stat and v uniform and independent over the band.
 
         A tensor grid of midpoints (``static_points`` × ``speed_points`` equally likely cells);
@@ -113,7 +112,7 @@ class Risk:
             raise ModelError(f"risk level = {self.level:g} is outside the valid range [0, 1)")
 
     @classmethod
-    def parse(cls, text: str) -> "Risk":
+    def parse(cls, text: str) -> Risk:
         """``minimax``, ``mean`` or ``cvar:0.9``."""
         if text.startswith("cvar"):
             _, _, level = text.partition(":")

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import force_levels_for_band
-from presag_opt.errors import ModelError
 from presag_opt.design.section import section_elasticity
+from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.lp import RobustDesign, evaluate_design, robust_presag
 from presag_opt.robust.path import PathModel, build_path_model

@@ -55,9 +55,6 @@ from presag_opt.sensitivity.methods import (
     spread_design,
     spread_summary,
 )
-
-METHODS = ("morris", "sobol", "spread")
-"""Morris screening, Sobol indices, or the spread of the output over a scrambled Sobol sample."""
 from presag_opt.sensitivity.quasi_static import (
     RECOMMENDATION_VALUES,
     ROBUST_VALUES,
@@ -65,6 +62,9 @@ from presag_opt.sensitivity.quasi_static import (
     RobustEvaluator,
 )
 from presag_opt.system.loader import load_catenary
+
+METHODS = ("morris", "sobol", "spread")
+"""Morris screening, Sobol indices, or the spread of the output over a scrambled Sobol sample."""
 
 QUASI_STATIC = ("recommendation", "robust")
 DYNAMIC = ("dynamic", "minima", "validity")

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.sensitivity.inputs import apply_inputs
@@ -45,8 +46,6 @@ from presag_opt.studies.store import (
 )
 from presag_opt.studies.validity import validity_analysis
 from presag_opt.studies.work import all_units, run_units, task_groups
-
-KMH = 1.0 / 3.6
 
 MOVE_THRESHOLD = 5.0
 """Rise of the optimal F_m between the smallest and largest pre-sag above which a minimum "moves". [N]"""

@@ -30,12 +30,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from presag_opt.contact_force import KMH
+from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
 from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
-from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.parameters import ParameterSweep, apply_parameter, parameter_spec
 from presag_opt.system.catenary import Catenary, Provenance
@@ -194,7 +195,7 @@ class StudyDefinition:
                 plan_run(variant.catenary, variant.pantograph, speed=speed, static_force=self.grid.static_forces[0],
                          aero_coefficient=self.grid.aero_coefficient, settings=variant.settings)
             except ModelError as exc:
-                raise ModelError(f"grid.speeds[{i}] = {speed * 3.6:g} km/h{where}: {exc}") from None
+                raise ModelError(f"grid.speeds[{i}] = {speed / KMH:g} km/h{where}: {exc}") from None
 
 
 @dataclass(frozen=True, kw_only=True)

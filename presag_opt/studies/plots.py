@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.studies.validity import ValidityResult
 from presag_opt.style import legend_outside, new_figure, save_figure
@@ -134,7 +135,7 @@ def _uplift(ds: xr.Dataset, path: Path) -> Path:
     ax.axhline(limit * MM, color="r", ls="--", label=f"limit {limit * MM:g} mm")
     ax.set_xlabel("β = v / c_CW [-]")
     ax.set_ylabel("max steady-arm uplift over F_stat [mm]")
-    kmh_per_beta = float(ds["speed"].values[0] / betas[0]) * 3.6
+    kmh_per_beta = float(ds["speed"].values[0] / betas[0]) / KMH
     top = ax.secondary_xaxis("top", functions=(lambda b: b * kmh_per_beta, lambda v: v / kmh_per_beta))
     top.set_xlabel("train speed v [km/h]")
     legend_outside(fig, ax)

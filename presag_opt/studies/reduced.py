@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 
 import xarray as xr
 
+from presag_opt.contact_force import KMH
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
@@ -114,7 +115,7 @@ def run_in_process(definition: StudyDefinition, progress: Callable[[str], None] 
     for group in task_groups(all_units(definition)):
         if progress:
             s = definition.grid.presags[group[0].presag_index]
-            kmh = ", ".join(f"{definition.grid.speeds[u.speed_index] * 3.6:g}" for u in group)
+            kmh = ", ".join(f"{definition.grid.speeds[u.speed_index] / KMH:g}" for u in group)
             progress(f"S = {s * 1e3:g} mm at {kmh} km/h")
         results += run_units(definition, group)
     return assemble(definition, results)

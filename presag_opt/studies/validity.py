@@ -50,6 +50,7 @@ import xarray as xr
 from scipy.interpolate import make_interp_spline
 from scipy.optimize import curve_fit
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 
 DISTINCT_RISE = 0.05
@@ -288,15 +289,15 @@ class ValidityResult:
             "criterion": self.criterion,
             "fit": None if self.fit is None else {**asdict(self.fit), "k_mm": self.fit.k * mm},
             "no_fit_reason": self.no_fit_reason,
-            "per_beta": [{"beta": v.beta, "speed_kmh": v.speed * 3.6, "holds": v.holds,
+            "per_beta": [{"beta": v.beta, "speed_kmh": v.speed / KMH, "holds": v.holds,
                           "bands": [band(b) for b in v.bands]} for v in self.per_beta],
-            "force_optima": [{"presag_mm": o.presag * mm, "beta": o.beta, "speed_kmh": o.speed * 3.6,
+            "force_optima": [{"presag_mm": o.presag * mm, "beta": o.beta, "speed_kmh": o.speed / KMH,
                               "sigma_over_F_m": minimum(o.ratio), "sigma": minimum(o.sigma)}
                              for o in self.force_optima],
             "uplift": None if self.uplift is None else {
                 "max_mm": self.uplift.maximum * mm, "limit_mm": self.uplift.limit * mm,
                 "within_limit": self.uplift.within_limit, "presag_mm": self.uplift.presag * mm,
-                "speed_kmh": self.uplift.speed * 3.6, "static_force_N": self.uplift.static_force,
+                "speed_kmh": self.uplift.speed / KMH, "static_force_N": self.uplift.static_force,
             },
             "settings": {"distinct_rise": DISTINCT_RISE, "near_optimal_margin": NEAR_OPTIMAL_MARGIN,
                          "hold_share": HOLD_SHARE, "fit_min_r2": FIT_MIN_R2,

@@ -460,11 +460,11 @@ class Catenary:
         """Mid-span pre-sag of span ``span`` (from 0). [m]"""
         return self.presag_rel * self.layout.span_lengths[span]
 
-    def with_presag(self, presag_rel: float) -> "Catenary":
+    def with_presag(self, presag_rel: float) -> Catenary:
         """Copy with a parabolic pre-sag of relative depth ``presag_rel`` (any profile dropped). [-]"""
         return dataclasses.replace(self, presag_rel=presag_rel, presag_profile=None)
 
-    def with_presag_profile(self, depths) -> "Catenary":
+    def with_presag_profile(self, depths) -> Catenary:
         """Copy with the contact wire at given depths below its support level at every dropper.
 
         Parameters
@@ -506,6 +506,6 @@ class Catenary:
         return np.interp(x, np.concatenate([[0.0], drops, [length]]),
                          np.concatenate([[0.0], self.presag_profile[span], [0.0]]))
 
-    def with_layout(self, layout: SpanLayout) -> "Catenary":
+    def with_layout(self, layout: SpanLayout) -> Catenary:
         """Copy with another span layout."""
         return dataclasses.replace(self, layout=layout)

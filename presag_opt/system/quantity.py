@@ -14,6 +14,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 
 #: Accepted spellings of each dimension's units, with their factor to SI.
@@ -28,9 +29,9 @@ UNITS: dict[str, dict[str, float]] = {
     "ratio": {"-": 1.0, "%": 1e-2, "‰": 1e-3, "permille": 1e-3},
     "frequency": {"1/s": 1.0, "Hz": 1.0},
     "time": {"s": 1.0, "ms": 1e-3},
-    "speed": {"m/s": 1.0, "km/h": 1.0 / 3.6},
-    # F = alpha * v^2: N/(km/h)^2 -> N/(m/s)^2 multiplies by 3.6^2.
-    "aero_coefficient": {"N/(m/s)^2": 1.0, "N/(km/h)^2": 3.6**2},
+    "speed": {"m/s": 1.0, "km/h": KMH},
+    # F = alpha * v^2: N/(km/h)^2 -> N/(m/s)^2 divides by KMH^2.
+    "aero_coefficient": {"N/(m/s)^2": 1.0, "N/(km/h)^2": KMH**-2},
     "count": {"-": 1.0},
 }
 

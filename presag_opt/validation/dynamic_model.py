@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from presag_opt.contact_force import KMH
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import SimulationCase
 from presag_opt.dynamics.integrator import IntegratorSettings, integrate
@@ -96,7 +97,7 @@ class CrawlingCheck:
 def crawling_check(
     state: EquilibriumState,
     *,
-    speed: float = 1.0 / 3.6,
+    speed: float = KMH,
     static_force: float = 60.0,
     time_step: float = 7e-3,
     pantograph: Pantograph = CONSTANT_FORCE_PANTOGRAPH,

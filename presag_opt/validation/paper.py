@@ -16,7 +16,6 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016:
 
 from __future__ import annotations
 
-
 PAPER_TABLE1_SPAN_LENGTH = 60.0
 """Span length of Table 1. [m]"""
 

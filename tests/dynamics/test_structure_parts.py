@@ -8,7 +8,6 @@ import pytest
 import scipy.sparse as sp
 
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
-
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.system.catenary import Damping

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
+from presag_opt.errors import ModelError
 from presag_opt.speed import doppler_factor, speed_ratio, wave_speed
 from presag_opt.validation.dynamic_model import lumped_string
-from presag_opt.errors import ModelError
 
 TENSION = 20e3  # N, EN 50318-style contact wire
 MASS_PER_LENGTH = 1.35  # kg/m

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
+from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
 from presag_opt.studies.store import assemble
 from presag_opt.studies.work import UnitResult, all_units
-from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.system.loader import load_catenary
 
 MODELS = Path(__file__).parent / "models"

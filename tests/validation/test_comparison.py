@@ -10,7 +10,6 @@ import pytest
 
 from presag_opt.validation import comparison_rows, single_curve_error, table2_row
 
-
 # Regression values (Table 2, F_m = 140 N, active-set elasticity, 0.5 m point spacing, default static
 # settings), computed once with this code on the built-in models and stored here. The paper prints
 # 96/118 mm (7.1/7.1) and 58/79 mm (9.8/9.8); ours differ by −10, −11, +7 and −5 % (assumed

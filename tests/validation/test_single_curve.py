@@ -6,7 +6,6 @@ import pytest
 
 from presag_opt.validation import single_curve_error
 
-
 # Regression values: relative error of sizing S (Δe rule) from the 100 N curve alone, at F_m = 179 N,
 # on the nominal 30 mm and the 70 mm geometry; computed once with this code (active-set, 0.5 m). The
 # paper reads 16 % and 2 %. Tolerance 0.002 (absolute, i.e. 0.2 percentage points): solver noise is
