@@ -30,7 +30,7 @@ class ElasticityCurve:
     elasticity : ndarray
         Uplift per unit force at each position. [m/N]
     slack_droppers : ndarray of int or None
-        Number of slack droppers in the section with the force at each position (nonlinear only).
+        Number of slack droppers in the section with the force at each position (nonlinear only). [-]
     """
 
     span: int

@@ -41,7 +41,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     state : EquilibriumState
         Form-found (or loaded) equilibrium.
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
 
@@ -113,7 +113,7 @@ def nonlinear_elasticity(
     force : float
         Upward contact force. [N]
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
     method : {"newton", "active-set"}

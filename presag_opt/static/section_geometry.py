@@ -37,7 +37,7 @@ class SectionStations:
     local : ndarray
         Distance of each node from its span's first mast. [m]
     span : ndarray of int
-        Span (from 0) of each node; a mast node belongs to the span it starts.
+        Span (from 0) of each node; a mast node belongs to the span it starts. [-]
     is_dropper : ndarray of bool
         Whether a dropper hangs at the node.
     mast_station : ndarray
