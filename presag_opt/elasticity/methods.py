@@ -20,7 +20,17 @@ from presag_opt.static.linearised import TensionOnlyStructure
 
 
 def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarray:
-    """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]"""
+    """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The equilibrium state (its discretisation).
+    span : int
+        Span index from 0. [-]
+    step : float
+        Largest spacing of the positions, 0.01 to 10. [m]
+    """
     disc = state.discretisation
     n_spans = len(disc.mast_station) - 1
     if isinstance(span, bool) or not isinstance(span, (int, np.integer)) or not 0 <= span < n_spans:

@@ -98,7 +98,13 @@ def sweeps() -> CSweeps:
 
 
 def lanes_for(n_runs: int) -> int:
-    """The run dimension of the arrays the compiled sweeps read: ``n_runs`` padded to whole blocks. [-]"""
+    """The run dimension of the arrays the compiled sweeps read: ``n_runs`` padded to whole blocks. [-]
+
+    Parameters
+    ----------
+    n_runs : int
+        Runs in the batch. [-]
+    """
     return -(-n_runs // LANES) * LANES
 
 
