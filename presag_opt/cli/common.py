@@ -397,8 +397,18 @@ def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: Static
 
 
 def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float) -> None:
-    """Say beforehand that a form-finding of ``n_nodes`` nodes [-] will take ``seconds`` [s], if that
-    is above :data:`LONG_FORM_FINDING` (unless ``--quiet``)."""
+    """Say beforehand that a form-finding of ``n_nodes`` nodes will take ``seconds``, if that is above
+    :data:`LONG_FORM_FINDING` (unless ``--quiet``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command line (its ``quiet`` flag, when present, silences the message).
+    n_nodes : int
+        Nodes of the model to be form-found. [-]
+    seconds : float
+        Estimated run time of the form-finding. [s]
+    """
     if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
         print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
               "(Ctrl-C stops it)", file=sys.stderr, flush=True)

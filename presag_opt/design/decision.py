@@ -179,7 +179,13 @@ class Decision:
     inputs: DecisionInputs
 
     def headline(self, span_length: float) -> str:
-        """One line: what to build on a span of ``span_length`` [m], by which method, and the status."""
+        """One line: what to build on a span of ``span_length``, by which method, and the status.
+
+        Parameters
+        ----------
+        span_length : float
+            Span length the relative pre-sag is applied to. [m]
+        """
         c = self.chosen
         text = f"{c.presag_rel * 1e3:.2f} ‰ = {c.presag_rel * span_length * 1e3:.0f} mm on {span_length:g} m ({c.method})"
         if self.status == "uplift-bound":
@@ -189,7 +195,13 @@ class Decision:
         return f"Pre-sag to build: {text}"
 
     def lines(self, span_length: float) -> list[str]:
-        """The decision as printed: headline, reason, what was not checked, the alternatives."""
+        """The decision as printed: headline, reason, what was not checked, the alternatives.
+
+        Parameters
+        ----------
+        span_length : float
+            Span length the relative pre-sag is applied to. [m]
+        """
         out = [self.headline(span_length), f"  why: {self.reason}"]
         details = (_uplift_text(self.chosen, self.inputs.uplift_limit) + _tolerance_text(self.chosen, span_length)).strip(", ")
         if details:
@@ -202,7 +214,13 @@ class Decision:
         return out
 
     def to_dict(self, span_length: float) -> dict:
-        """JSON-ready content in ‰, mm and N."""
+        """JSON-ready content in ‰, mm and N.
+
+        Parameters
+        ----------
+        span_length : float
+            Span length the relative pre-sag is applied to. [m]
+        """
         def one(c: Candidate) -> dict:
             return {"method": c.method, "presag_rel_permille": c.presag_rel * 1e3,
                     "presag_mm": c.presag_rel * span_length * 1e3,

@@ -159,7 +159,21 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
 @inline
 def pantograph_predictor(b, scalars, shared, runs, state):
     """Run ``b``'s pantograph predictors, right-hand side (uplift on the heads), C ṽ + K ũ, g and
-    δ_lin (a :class:`PantographStep`)."""
+    δ_lin (a :class:`PantographStep`).
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    state : RunState
+        The runs' state.
+    """
     c = scalars.scheme
     head_dof, damping, stiffness, inverse = (shared.head_dof, shared.pantograph_damping, shared.pantograph_stiffness,
                                              shared.pantograph_inverse)
@@ -193,7 +207,27 @@ def pantograph_predictor(b, scalars, shared, runs, state):
 @inline
 def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     """Run ``b``'s droppers at the predictor (a :class:`DropperStep`; ``scratch.stretch`` and
-    ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``."""
+    ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    """
     dropper_dofs, dropper_gradient, path_nodes = shared.dropper_dofs, shared.dropper_gradient, runs.path_nodes
     u_pred, v_pred, delta = state.u, state.v, work.delta
     u_of, v_of, stretch, rate = scratch.u_of, scratch.v_of, scratch.stretch, scratch.rate
@@ -230,7 +264,25 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
 @inline
 def residual_at_predictor(b, s, shared, state, work, scratch, pan):
     """The integrator's force scale and largest residual at the predictor of run ``b`` [N], the
-    sweep's values completed on the rows the nonlinear forces can reach."""
+    sweep's values completed on the rows the nonlinear forces can reach.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    s : float
+        1 + α of the HHT-α scheme. [-]
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    """
     set_force, position, candidate_rows = scratch.set_force, scratch.position, shared.candidate_rows
     linear, g, rhs = work.linear, work.g, state.r
     n = shared.mass.shape[0]
@@ -253,7 +305,29 @@ def residual_at_predictor(b, s, shared, state, work, scratch, pan):
 def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate δ (0 at the predictor): x_S = (δ_lin − s Z f)_S
     − δ_S, y = (I + s T Z_SS)⁻¹ s T x_S; the new δ = δ_lin − s Z φ with φ = f + y/s, left in
-    ``scratch.phi``. Returns the size of φ."""
+    ``scratch.phi``. Returns the size of φ.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    s : float
+        1 + α of the HHT-α scheme. [-]
+    count : int
+        Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 before the first). [-]
+    taken : int
+        Newton corrections taken in this step so far. [-]
+    shared : Shared
+        What the runs of the batch share.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    """
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
     phi_dofs, phi, delta, delta_lin = scratch.phi_dofs, scratch.phi, work.delta, pan.delta_lin
@@ -292,7 +366,33 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
 @inline
 def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop):
     """The new iterate δ = δ_lin − s Z φ where the forces read it, its nonlinear forces, and the
-    residual s (f − φ) on the set. Returns (set size, recorded droppers slack, largest |residual| [N])."""
+    residual s (f − φ) on the set. Returns (set size, recorded droppers slack, largest |residual| [N]).
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 before the first). [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    drop : DropperStep
+        Run ``b``'s droppers at the predictor (``predictor_state``).
+    """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     stretch_influence, path_nodes, u_pred, v_pred, delta = (shared.stretch_influence, runs.path_nodes, state.u, state.v,
@@ -346,7 +446,25 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
 
 @inline
 def fail_run(b, step, largest, count, taken, out, scratch):
-    """Stop run ``b``: its status, step and last residual [N]; the set cleared."""
+    """Stop run ``b``: its status, step and last residual [N]; the set cleared.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    largest : float
+        Largest absolute residual at the last iterate. [N]
+    count : int
+        Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
+    taken : int
+        Newton corrections taken in this step so far. [-]
+    out : Records
+        The records being written.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    """
     out.status[b] = STATUS_NOT_CONVERGED if np.isfinite(largest) else STATUS_NOT_FINITE
     out.fail_step[b] = step
     out.fail_residual[b] = largest
@@ -364,6 +482,35 @@ def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out
     3) or the pantographs' r directly. A run that converged at its predictor has δ = 0, and
     R = s f0 − g everywhere gives r_(n+1) = C ṽ + K ũ + f0: sweep 3 forms (rhs + R − M a)/s, so rhs
     becomes s (C ṽ + K ũ) here and R = s f0 on the set.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    taken : int
+        Newton corrections taken in this step so far. [-]
+    count : int
+        Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 before the first). [-]
+    slack : int
+        Recorded droppers slack at the iterate. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    out : Records
+        The records being written.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors (``pantograph_predictor``).
     """
     c = scalars.scheme
     s = c.s

@@ -54,9 +54,9 @@ class BatchSystem:
     model : StructuralModel
         The catenary's structural model.
     order : ndarray of int
-        Model DOF at each banded position.
+        Model DOF at each banded position. [-]
     position : ndarray of int
-        Banded position of each model DOF.
+        Banded position of each model DOF. [-]
     scalars : Scalars
         The kernel's numbers (scheme constants, Rayleigh coefficients, Newton and friction settings).
     fixed : dict
@@ -153,21 +153,21 @@ class BatchRecords:
     Attributes
     ----------
     n_steps : ndarray of int
-        Time steps of each run.
+        Time steps of each run. [-]
     contact_force : ndarray, shape (n_runs, n_pantographs, n_records)
         Raw contact force at every record time. [N]
     uplift_max : ndarray
         Largest uplift at the analysed section's supports. [m]
     slack_max : ndarray of int
-        Most recorded droppers slack at once.
+        Most recorded droppers slack at once. [-]
     status : ndarray of int
-        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped.
+        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped. [-]
     fail_step : ndarray of int
-        Step at which a failed run stopped.
+        Step at which a failed run stopped. [-]
     fail_residual : ndarray
         Its last Newton residual. [N]
     iterations : ndarray of int
-        Newton corrections taken.
+        Newton corrections taken. [-]
     """
 
     n_steps: np.ndarray

@@ -162,7 +162,13 @@ def physical_memory() -> float | None:
 
 
 def duration(seconds: float) -> str:
-    """A duration for people: ``40 s``, ``12 min``, ``2.3 h``."""
+    """A duration for people: ``40 s``, ``12 min``, ``2.3 h``.
+
+    Parameters
+    ----------
+    seconds : float
+        The duration. [s]
+    """
     if seconds < 90:
         return f"{seconds:.0f} s"
     return f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"

@@ -189,7 +189,7 @@ def integrate(
         State at ``t = 0``; at rest (all zero) if not given. A missing acceleration is computed from
         the equation of motion, which needs a non-singular mass matrix.
     record_dofs : sequence of int, optional
-        DOFs whose histories are kept; all DOFs if not given (mind the memory for large models).
+        DOFs whose histories are kept; all DOFs if not given (mind the memory for large models). [-]
     observe : callable, optional
         ``observe(t [s], u [m], v [m/s]) -> (m,) array`` evaluated at every record time, e.g. the
         contact force. [as returned]

@@ -204,7 +204,17 @@ def make_scratch(shared: Shared) -> Scratch:
 
 def make_work(shared: Shared, n_runs: int, lanes: int | None = None) -> Work:
     """The per-step work arrays of a batch; ``lanes`` (default ``n_runs``) is the run dimension of
-    the arrays the sweeps read, padded for the compiled sweeps."""
+    the arrays the sweeps read, padded for the compiled sweeps.
+
+    Parameters
+    ----------
+    shared : Shared
+        What the runs of the batch share.
+    n_runs : int
+        Runs in the batch. [-]
+    lanes : int, optional
+        Run dimension of the swept arrays, at least ``n_runs`` (:func:`~presag_opt.native.sweeps.lanes_for`). [-]
+    """
     lanes = n_runs if lanes is None else lanes
     n = len(shared.mass)
     n_candidates = len(shared.candidate_rows)

@@ -84,7 +84,23 @@ NonlinearForceFunction = Callable[[np.ndarray, np.ndarray, float], NonlinearForc
 
 @dataclass
 class EquationOfMotion:
-    """The equation of motion and the scheme constants."""
+    """The equation of motion and the scheme constants.
+
+    Attributes
+    ----------
+    mass : scipy.sparse.csr_matrix
+        Mass matrix M. [kg]
+    damping : scipy.sparse.csr_matrix
+        Damping matrix C. [N·s/m]
+    stiffness : scipy.sparse.csr_matrix
+        Stiffness matrix K. [N/m]
+    external_force : callable
+        ``f(t [s])``: external force on every DOF at time t [N].
+    nonlinear_force : callable
+        The nonlinear force callback (:data:`NonlinearForceFunction`).
+    c : SchemeConstants
+        Constants of the time-stepping scheme.
+    """
 
     mass: sp.csr_matrix
     damping: sp.csr_matrix
@@ -99,7 +115,13 @@ class EquationOfMotion:
         return (c.a0 * self.mass + c.s * (self.stiffness + c.a1 * self.damping)).tocsc()
 
     def inertia(self, a: np.ndarray) -> np.ndarray:
-        """M a; elementwise for a lumped (diagonal) mass matrix. [N]"""
+        """M a; elementwise for a lumped (diagonal) mass matrix. [N]
+
+        Parameters
+        ----------
+        a : ndarray
+            Acceleration of every DOF. [m/s²]
+        """
         diagonal = self.__dict__.get("_mass_diagonal")
         if diagonal is None:
             is_diagonal = self.mass.nnz == np.count_nonzero(self.mass.diagonal()) and sp.triu(self.mass, 1).nnz == 0 \
@@ -109,7 +131,17 @@ class EquationOfMotion:
         return diagonal * a if diagonal is not False else self.mass @ a
 
     def internal_force(self, u: np.ndarray, v: np.ndarray, nl: NonlinearForce) -> np.ndarray:
-        """r = C v + K u + f_nl. [N]"""
+        """r = C v + K u + f_nl. [N]
+
+        Parameters
+        ----------
+        u : ndarray
+            Displacement of every DOF. [m]
+        v : ndarray
+            Velocity of every DOF. [m/s]
+        nl : NonlinearForce
+            The nonlinear forces at ``u`` and ``v``.
+        """
         r = self.damping @ v + self.stiffness @ u
         np.add.at(r, nl.dofs, nl.force)
         return r
@@ -117,7 +149,21 @@ class EquationOfMotion:
 
 @dataclass
 class StepTerms:
-    """Quantities fixed during one step: predictors, external force and the right-hand side."""
+    """Quantities fixed during one step: predictors, external force and the right-hand side.
+
+    Attributes
+    ----------
+    time : float
+        Time at the end of the step, t_(n+1). [s]
+    u_pred : ndarray
+        Displacement predictor ũ of every DOF. [m]
+    v_pred : ndarray
+        Velocity predictor ṽ of every DOF. [m/s]
+    forcing : ndarray
+        External force on every DOF at ``time``. [N]
+    rhs : ndarray
+        Right-hand side of the step's equation (the HHT-α mix of forces). [N]
+    """
 
     time: float
     u_pred: np.ndarray
@@ -126,13 +172,33 @@ class StepTerms:
     rhs: np.ndarray
 
     def kinematics(self, u: np.ndarray, c: SchemeConstants) -> tuple[np.ndarray, np.ndarray]:
-        """Acceleration and velocity that go with the displacement ``u``. [m/s²], [m/s]"""
+        """Acceleration and velocity that go with the displacement ``u``. [m/s²], [m/s]
+
+        Parameters
+        ----------
+        u : ndarray
+            Displacement of every DOF at the end of the step. [m]
+        c : SchemeConstants
+            Constants of the time-stepping scheme.
+        """
         a = c.a0 * (u - self.u_pred)
         return a, self.v_pred + c.velocity_update * a
 
 
 def full_residual(system: EquationOfMotion, step: StepTerms, u: np.ndarray, nl: NonlinearForce) -> tuple[np.ndarray, float]:
-    """Residual R(u) and the size of the largest force term in it. [N], [N]"""
+    """Residual R(u) and the size of the largest force term in it. [N], [N]
+
+    Parameters
+    ----------
+    system : EquationOfMotion
+        The equation of motion.
+    step : StepTerms
+        What the step keeps fixed.
+    u : ndarray
+        Displacement of every DOF (the iterate). [m]
+    nl : NonlinearForce
+        The nonlinear forces at ``u``.
+    """
     c = system.c
     a, v = step.kinematics(u, c)
     inertia = system.inertia(a)
@@ -142,7 +208,13 @@ def full_residual(system: EquationOfMotion, step: StepTerms, u: np.ndarray, nl: 
 
 
 def norm(x: np.ndarray) -> float:
-    """Largest absolute entry (0 for an empty vector). [as x]"""
+    """Largest absolute entry (0 for an empty vector). [as x]
+
+    Parameters
+    ----------
+    x : ndarray
+        A vector, such as a residual [N] or a correction [m]; the result has its unit.
+    """
     return float(np.max(np.abs(x))) if x.size else 0.0
 
 
@@ -167,7 +239,17 @@ class FactorisedSolver:
         self._columns: OrderedDict[int, np.ndarray] = OrderedDict()
 
     def correction(self, rhs: np.ndarray, dofs: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-        """Solve (K_eff + E T Eᵀ) δ = rhs, with T = s·tangent on ``dofs``. [m]"""
+        """Solve (K_eff + E T Eᵀ) δ = rhs, with T = s·tangent on ``dofs``. [m]
+
+        Parameters
+        ----------
+        rhs : ndarray
+            Right-hand side on every DOF (−R, the negative residual). [N]
+        dofs : ndarray of int
+            DOFs the nonlinear forces act on (E). [-]
+        tangent : ndarray, shape (len(dofs), len(dofs))
+            Tangent of the nonlinear forces, :meth:`NonlinearForce.tangent`. [N/m]
+        """
         loaded = np.flatnonzero(rhs)
         if len(loaded) <= SPARSE_RIGHT_HAND_SIDE:
             # After a step's first correction the residual lives on the nonlinear DOFs only.
@@ -198,6 +280,21 @@ class FactorisedSolver:
 
         R(u + δ) = R(u) + K_eff δ + s (f_nl,new - f_nl,old) and the correction made
         K_eff δ = -R(u) - s T δ[dofs], so R(u + δ) = s (f_nl,new - f_nl,old - T δ[dofs]).
+
+        Parameters
+        ----------
+        step : StepTerms
+            What the step keeps fixed.
+        u : ndarray
+            Displacement of every DOF after the correction. [m]
+        old : NonlinearForce
+            The nonlinear forces before the correction.
+        new : NonlinearForce
+            The nonlinear forces at ``u``.
+        tangent : ndarray, shape (len(old.dofs), len(old.dofs))
+            The tangent the correction was solved with. [N/m]
+        delta : ndarray
+            The correction δ of every DOF. [m]
         """
         r = np.zeros_like(u)
         np.add.at(r, new.dofs, new.force)
@@ -226,7 +323,17 @@ class ReferenceSolver:
         self._system = system
 
     def correction(self, rhs: np.ndarray, dofs: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-        """Solve (K_eff + s E T Eᵀ) δ = rhs by a fresh sparse LU factorisation. [m]"""
+        """Solve (K_eff + s E T Eᵀ) δ = rhs by a fresh sparse LU factorisation. [m]
+
+        Parameters
+        ----------
+        rhs : ndarray
+            Right-hand side on every DOF (−R, the negative residual). [N]
+        dofs : ndarray of int
+            DOFs the nonlinear forces act on (E). [-]
+        tangent : ndarray, shape (len(dofs), len(dofs))
+            Tangent of the nonlinear forces, :meth:`NonlinearForce.tangent`. [N/m]
+        """
         n = len(rhs)
         rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
         update = sp.coo_matrix((self._system.c.s * tangent.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
@@ -244,5 +351,21 @@ class ReferenceSolver:
         tangent: np.ndarray,
         delta: np.ndarray,
     ) -> np.ndarray:
-        """Full residual at the new iterate. [N]"""
+        """Full residual at the new iterate. [N]
+
+        Parameters
+        ----------
+        step : StepTerms
+            What the step keeps fixed.
+        u : ndarray
+            Displacement of every DOF after the correction. [m]
+        old : NonlinearForce
+            The nonlinear forces before the correction.
+        new : NonlinearForce
+            The nonlinear forces at ``u``.
+        tangent : ndarray, shape (len(old.dofs), len(old.dofs))
+            The tangent the correction was solved with. [N/m]
+        delta : ndarray
+            The correction δ of every DOF. [m]
+        """
         return full_residual(self._system, step, u, new)[0]

@@ -62,7 +62,7 @@ def run_summary(
     wave_speed : float
         Contact-wire wave speed. [m/s]
     analysed_spans : sequence of int
-        Spans (from 0) of the analysed section; reported from 1.
+        Spans (from 0) of the analysed section; reported from 1. [-]
     analysed_section : sequence of float
         Its start and end stations. [m]
     time_step : float
@@ -167,7 +167,7 @@ class SimulationResult:
     pantographs : tuple of PantographHistory
         Front to rear.
     analysed_spans : tuple of int
-        Spans (from 0) of the analysed section.
+        Spans (from 0) of the analysed section. [-]
     analysed_section : tuple of float
         Stations where the analysed section starts and ends. [m]
     support_station : ndarray
@@ -272,7 +272,7 @@ class RunOutcome:
     wave_speed : float
         Contact-wire wave speed. [m/s]
     analysed_spans : tuple of int
-        Spans (from 0) of the analysed section.
+        Spans (from 0) of the analysed section. [-]
     analysed_section : tuple of float
         Stations where the analysed section starts and ends. [m]
     newton_iterations : int

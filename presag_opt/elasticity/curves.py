@@ -30,7 +30,7 @@ class ElasticityCurve:
     elasticity : ndarray
         Uplift per unit force at each position. [m/N]
     slack_droppers : ndarray of int or None
-        Number of slack droppers in the section with the force at each position (nonlinear only).
+        Number of slack droppers in the section with the force at each position (nonlinear only). [-]
     """
 
     span: int
@@ -41,7 +41,13 @@ class ElasticityCurve:
     slack_droppers: np.ndarray | None = None
 
     def at(self, position: float | np.ndarray) -> float | np.ndarray:
-        """Elasticity interpolated at positions from the span's first mast. [m/N]"""
+        """Elasticity interpolated at positions from the span's first mast. [m/N]
+
+        Parameters
+        ----------
+        position : float or ndarray
+            Distance from the span's first mast. [m]
+        """
         return np.interp(position, self.position, self.elasticity)
 
     @property

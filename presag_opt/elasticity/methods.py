@@ -20,7 +20,17 @@ from presag_opt.static.linearised import TensionOnlyStructure
 
 
 def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarray:
-    """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]"""
+    """Positions from the span's first mast, both ends included, no more than ``step`` apart. [m]
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The equilibrium state (its discretisation).
+    span : int
+        Span index from 0. [-]
+    step : float
+        Largest spacing of the positions, 0.01 to 10. [m]
+    """
     disc = state.discretisation
     n_spans = len(disc.mast_station) - 1
     if isinstance(span, bool) or not isinstance(span, (int, np.integer)) or not 0 <= span < n_spans:
@@ -41,7 +51,7 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     state : EquilibriumState
         Form-found (or loaded) equilibrium.
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
 
@@ -113,7 +123,7 @@ def nonlinear_elasticity(
     force : float
         Upward contact force. [N]
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     step : float
         Largest distance between evaluation points. [m]
     method : {"newton", "active-set"}

@@ -40,7 +40,7 @@ def elasticity_study(
     state : EquilibriumState
         Form-found equilibrium.
     span : int, optional
-        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span.
+        Span index from 0 (0 is the first span, ``n_spans − 1`` the last); default the central span. [-]
     forces : sequence of float
         Force levels. [N]
     step : float

@@ -79,6 +79,7 @@ class DependencyLocator(caching._CacheLocator):
         self._py_func = py_func
 
     def ensure_cache_path(self) -> None:
+        """Make sure numba's own cache directory exists and is writable (the inner locator's check)."""
         self._inner.ensure_cache_path()
 
     def get_cache_path(self) -> str:
@@ -92,6 +93,8 @@ class DependencyLocator(caching._CacheLocator):
 
     @classmethod
     def from_function(cls, py_func: Callable, py_file: str) -> DependencyLocator | None:
+        """A locator for ``py_func`` (defined in ``py_file``) when it is a kernel function, wrapping the
+        first of numba's own locators that takes it; None otherwise (numba then tries its own)."""
         if py_func not in _KERNEL_FUNCTIONS:
             return None
         for locator in caching.CacheImpl._locator_classes:

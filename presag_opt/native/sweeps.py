@@ -98,7 +98,13 @@ def sweeps() -> CSweeps:
 
 
 def lanes_for(n_runs: int) -> int:
-    """The run dimension of the arrays the compiled sweeps read: ``n_runs`` padded to whole blocks. [-]"""
+    """The run dimension of the arrays the compiled sweeps read: ``n_runs`` padded to whole blocks. [-]
+
+    Parameters
+    ----------
+    n_runs : int
+        Runs in the batch. [-]
+    """
     return -(-n_runs // LANES) * LANES
 
 
@@ -110,7 +116,23 @@ def _lanes(work, active):
 
 @inline
 def forward_sweep(c_sweeps, scalars, shared, state, work, active):
-    """:func:`presag_opt.dynamics.kernel.forward_sweep` in C."""
+    """:func:`presag_opt.dynamics.kernel.forward_sweep` in C.
+
+    Parameters
+    ----------
+    c_sweeps : CSweeps
+        The C sweeps (``sweeps()``).
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    active : int
+        Runs the sweep covers, the first columns (rounded up to whole blocks). [-]
+    """
     sh = shared
     n, width = sh.factor_band.shape
     c_sweeps.forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
@@ -123,7 +145,19 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
 @inline
 def backward_sweep(c_sweeps, shared, work, active):
     """The backward substitution of K_eff δ_lin = g in C (numba's is
-    :func:`presag_opt.native.banded_numba.backward_substitution`)."""
+    :func:`presag_opt.native.banded_numba.backward_substitution`).
+
+    Parameters
+    ----------
+    c_sweeps : CSweeps
+        The C sweeps (``sweeps()``).
+    shared : Shared
+        What the runs of the batch share.
+    work : Work
+        Per-step work arrays of the batch.
+    active : int
+        Runs the sweep covers, the first columns (rounded up to whole blocks). [-]
+    """
     n, width = shared.factor_band.shape
     c_sweeps.backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
                       _lanes(work, active))
@@ -131,7 +165,29 @@ def backward_sweep(c_sweeps, shared, work, active):
 
 @inline
 def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
-    """:func:`presag_opt.dynamics.kernel.update_sweep` in C."""
+    """:func:`presag_opt.dynamics.kernel.update_sweep` in C.
+
+    Parameters
+    ----------
+    c_sweeps : CSweeps
+        The C sweeps (``sweeps()``).
+    step : int
+        Record (time step) being computed. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    state : RunState
+        The runs' state.
+    out : Records
+        The records being written.
+    work : Work
+        Per-step work arrays of the batch.
+    active : int
+        Runs the sweep covers, the first columns (rounded up to whole blocks). [-]
+    """
     c, sh = scalars.scheme, shared
     c_sweeps.update(sh.mass.shape[0], sh.mass.ctypes.data, sh.columns.ctypes.data, work.phi_count.ctypes.data,
                     work.phi_column.ctypes.data, work.phi_coefficient.ctypes.data, work.phi_column.shape[1],

@@ -32,9 +32,9 @@ class BandedSolver:
     pattern : scipy.sparse.csc_matrix
         The sparsity pattern (values ignored).
     permutation : ndarray of int
-        New order of the rows/columns.
+        New order of the rows/columns. [-]
     bandwidth : int
-        Lower bandwidth after reordering.
+        Lower bandwidth after reordering. [-]
     """
 
     pattern: sp.csc_matrix

@@ -148,7 +148,16 @@ def state_arrays(state: EquilibriumState) -> dict[str, np.ndarray]:
 
 
 def state_from_arrays(model: StaticModel, arrays: dict[str, np.ndarray] | None) -> EquilibriumState | None:
-    """A state of ``model`` from stored arrays, or None when they are missing or do not fit the model."""
+    """A state of ``model`` from stored arrays, or None when they are missing or do not fit the model.
+
+    Parameters
+    ----------
+    model : StaticModel
+        The model the state belongs to.
+    arrays : dict of str to ndarray, or None
+        Arrays as :func:`state_arrays` stores them (positions [m], applied load [N], iterations
+        [-], the parameters in SI); None when nothing is stored.
+    """
     from presag_opt.static.equilibrium import EquilibriumState  # the static model loads CasADi
     from presag_opt.static.potential import PhysicalParameters
 

@@ -65,7 +65,7 @@ class FormFindingSystem:
     start : ndarray
         v at the design coordinates. [m]
     z_unknown : ndarray of int
-        Nodes whose height is unknown, in the order of v.
+        Nodes whose height is unknown, in the order of v. [-]
     n_side, n_arm, n_drop : int
         Sideways unknowns, steady arms and droppers. [-]
     """
@@ -89,7 +89,21 @@ def form_finding_system(
     x_design: np.ndarray,
 ) -> FormFindingSystem:
     """The form-finding equations at the design coordinates ``x_design`` (arguments as for
-    :func:`presag_opt.static.form_finding_solver.solve_form_finding`)."""
+    :func:`presag_opt.static.form_finding_solver.solve_form_finding`).
+
+    Parameters
+    ----------
+    disc : Discretisation
+        Topology.
+    params : PhysicalParameters
+        Parameter values; dropper lengths and spring references are starting values.
+    wire_tension : ndarray
+        Horizontal tension of each axial element that is a wire segment, 0 for the others. [N]
+    target_dofs : ndarray of int
+        Degrees of freedom (heights) that must keep their design value. [-]
+    x_design : ndarray
+        Design coordinates (first-guess pivots). [m]
+    """
     base = x_design.reshape(-1, 3)
     fixed = disc.fixed_dofs.reshape(-1, 3)
     z_free = np.flatnonzero(~fixed[:, 2])
@@ -196,9 +210,14 @@ def target_height_sensitivity(
 
     Parameters
     ----------
-    disc, params, wire_tension, target_dofs
-        As for :func:`solve_form_finding`; ``params`` holds the solved dropper lengths and spring
-        references.
+    disc : Discretisation
+        Topology, as for :func:`solve_form_finding`.
+    params : PhysicalParameters
+        Parameter values holding the solved dropper lengths and spring references.
+    wire_tension : ndarray
+        Horizontal tension of each axial element that is a wire segment, 0 for the others. [N]
+    target_dofs : ndarray of int
+        Degrees of freedom (heights) that keep their design value. [-]
     positions : ndarray, shape (n_nodes, 3)
         The form-found coordinates. [m]
 

@@ -81,7 +81,7 @@ def solve_form_finding(
     wire_tension : ndarray
         Horizontal tension of each axial element that is a wire segment, 0 for the others. [N]
     target_dofs : ndarray of int
-        Degrees of freedom (heights) that must keep their design value.
+        Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
         Design coordinates (first-guess pivots). [m]
 

@@ -32,6 +32,15 @@ def force_tolerance(params: PhysicalParameters, x: np.ndarray, settings: StaticS
     ``settings.force_tolerance``, but never below the round-off of the nodal forces: an element of
     stiffness k between nodes at coordinates of size |x| cannot balance better than about
     ε·k·|x| (ε machine epsilon); short stiff elements far from the origin reach 1e-4 N.
+
+    Parameters
+    ----------
+    params : PhysicalParameters
+        Parameter values (their axial stiffness).
+    x : ndarray
+        Coordinates of every DOF. [m]
+    settings : StaticSettings
+        Numerical settings (``force_tolerance``).
     """
     floor = ROUND_OFF_FACTOR * np.finfo(float).eps * float(params.axial_stiffness.max()) * float(np.abs(x).max())
     return max(settings.force_tolerance, floor)
@@ -48,6 +57,17 @@ def newton_equilibrium(
     reduce the out-of-balance force a hundredfold or more (:data:`REFACTORISE_RATE`): the converged
     state meets the same force tolerance, and an elasticity curve needs one factorisation per point
     instead of three (its values move by 4e-8 relative, measured on ST 9,8/9,8 at 50–250 N).
+
+    Parameters
+    ----------
+    model : StaticModel
+        The static model.
+    params : PhysicalParameters
+        Parameter values (loads included).
+    x0 : ndarray
+        Starting coordinates of every DOF. [m]
+    settings : StaticSettings
+        Numerical settings (``force_tolerance``, ``max_newton_iterations``).
 
     Returns
     -------
@@ -102,6 +122,19 @@ def newton_solve(
     The factorisation is kept while the steps it gives converge fast (:data:`REFACTORISE_RATE`) and
     renewed at the current iterate otherwise, so the solution meets the same force tolerance as
     Newton's method, mostly at the cost of one back-substitution per step.
+
+    Parameters
+    ----------
+    model : StaticModel
+        The static model.
+    params : PhysicalParameters
+        Parameter values (loads included).
+    x0 : ndarray
+        Starting coordinates of every DOF. [m]
+    settings : StaticSettings
+        Numerical settings (``force_tolerance``, ``max_newton_iterations``).
+    terms : NewtonTerms, optional
+        What the previous solve left (gradient and factorisation near ``x0``); None to start afresh.
     """
     funcs = model.functions
     free = funcs.free_dofs

@@ -170,7 +170,7 @@ class PotentialFunctions:
     discretisation : Discretisation
         Topology.
     free_dofs : ndarray of int
-        Degrees of freedom that move in equilibrium (not supports, anchors or pivots).
+        Degrees of freedom that move in equilibrium (not supports, anchors or pivots). [-]
     solver : BandedSolver
         Ordering and factorisation of the tangent-stiffness pattern (free DOFs, CSC).
     """

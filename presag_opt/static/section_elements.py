@@ -19,7 +19,19 @@ GROUP_NAMES = ("contact wire", "messenger wire", "dropper", "steady arm", "stitc
 
 @dataclass(frozen=True, kw_only=True)
 class AxialElements:
-    """Two-node spring elements (arrays of equal length)."""
+    """Two-node spring elements (arrays of equal length).
+
+    Attributes
+    ----------
+    node_a, node_b : ndarray of int
+        End nodes of each element. [-]
+    stiffness : ndarray
+        Axial stiffness of each element. [N/m]
+    design_length : ndarray
+        Length of each element in the design (target) state. [m]
+    group : ndarray of int
+        ``CONTACT_WIRE``, ``MESSENGER_WIRE``, ``DROPPER`` or ``STEADY_ARM``. [-]
+    """
 
     node_a: np.ndarray
     node_b: np.ndarray
@@ -33,7 +45,17 @@ class AxialElements:
 
 @dataclass(frozen=True, kw_only=True)
 class BendingTriples:
-    """Three consecutive wire nodes a-b-c with the reference spacings and EI."""
+    """Three consecutive wire nodes a-b-c with the reference spacings and EI.
+
+    Attributes
+    ----------
+    node_a, node_b, node_c : ndarray of int
+        The three nodes of each triple, in order along the wire. [-]
+    spacing_ab, spacing_bc : ndarray
+        Reference spacings a-b and b-c. [m]
+    bending_stiffness : ndarray
+        Bending stiffness EI of the wire at each triple. [N·m²]
+    """
 
     node_a: np.ndarray
     node_b: np.ndarray
@@ -52,7 +74,44 @@ class BendingTriples:
 
 @dataclass
 class SectionElements:
-    """Elements, masses and holds collected span by span (mutable; :func:`discretise` freezes them)."""
+    """Elements, masses and holds collected span by span (mutable; :func:`discretise` freezes them).
+
+    Attributes
+    ----------
+    node_mass : ndarray
+        Lumped mass of each node. [kg]
+    fixed : ndarray of bool, shape (n_nodes, 3)
+        Held coordinates of each node.
+    ax_a, ax_b : list of ndarray of int
+        End nodes of the axial elements, one array per call. [-]
+    ax_k : list of ndarray
+        Axial stiffness of the elements, one array per call. [N/m]
+    ax_len : list of ndarray
+        Design lengths of the elements, one array per call. [m]
+    ax_grp : list of ndarray of int
+        Element groups (``CONTACT_WIRE`` …), one array per call. [-]
+    bend : dict of list of ndarray
+        Bending triples by key: nodes ``"a"``, ``"b"``, ``"c"`` [-], spacings ``"h1"``, ``"h2"``
+        [m], ``"ei"`` the bending stiffness [N·m²].
+    springs_dof : list of int
+        DOF (vertical) of each ground spring. [-]
+    springs_k : list of float
+        Stiffness of each ground spring. [N/m]
+    springs_mast : list of int
+        Mast of each ground spring. [-]
+    arm_a, arm_b : list of int
+        Clamp node and pivot node of each steady arm. [-]
+    arm_k : list of float
+        Axial stiffness of each steady arm. [N/m]
+    arm_len : list of float
+        Length of each steady arm. [m]
+    arm_masts : list of int
+        Mast of each steady arm. [-]
+    pin_nodes : list of int
+        Messenger-wire nodes pinned across a curved track. [-]
+    pin_normals : list of ndarray
+        Horizontal unit vector across the track at each pinned node. [-]
+    """
 
     node_mass: np.ndarray
     fixed: np.ndarray
@@ -87,7 +146,19 @@ class SectionElements:
 
     def add_wire(self, nodes: np.ndarray, wire: Wire | StitchWire, group: int, pos: np.ndarray) -> None:
         """Segments (stiffness EA over the unstretched length at the wire's tension), lumped mass and
-        bending triples of one wire."""
+        bending triples of one wire.
+
+        Parameters
+        ----------
+        nodes : ndarray of int
+            The wire's nodes in order along it. [-]
+        wire : Wire
+            The wire's properties.
+        group : int
+            ``CONTACT_WIRE`` or ``MESSENGER_WIRE``. [-]
+        pos : ndarray, shape (len(nodes), 3)
+            Design coordinates of the nodes. [m]
+        """
         seg = np.linalg.norm(np.diff(pos, axis=0), axis=1)
         unstretched = seg / (1.0 + wire.tension / wire.axial_stiffness)
         self._append(nodes[:-1], nodes[1:], wire.axial_stiffness / unstretched, seg, group)
@@ -103,7 +174,19 @@ class SectionElements:
             b["ei"].append(np.full(len(seg) - 1, wire.bending_stiffness))
 
     def add_droppers(self, cat: Catenary, d_cw: np.ndarray, d_mw: np.ndarray, d_len: np.ndarray) -> int:
-        """Droppers between the contact and messenger wire nodes, with their and their clamps' mass."""
+        """Droppers between the contact and messenger wire nodes, with their and their clamps' mass.
+
+        Returns the number of droppers added.
+
+        Parameters
+        ----------
+        cat : Catenary
+            The catenary (its dropper properties).
+        d_cw, d_mw : ndarray of int
+            Contact-wire and messenger-wire node of each dropper. [-]
+        d_len : ndarray
+            Design length of each dropper. [m]
+        """
         if np.any(d_len <= 0.0):
             raise ModelError("the messenger-wire first guess lies below the contact wire; check system_height")
         spec = cat.droppers
@@ -115,7 +198,15 @@ class SectionElements:
         return len(d_len)
 
     def add_contact_wire_supports(self, support: SteadyArm | SpringSupport, mast_cw: np.ndarray) -> None:
-        """A steady arm (its pivot a new node, numbered after the wires) or a ground spring at each mast."""
+        """A steady arm (its pivot a new node, numbered after the wires) or a ground spring at each mast.
+
+        Parameters
+        ----------
+        support : SteadyArm or SpringSupport
+            The contact wire's support.
+        mast_cw : ndarray of int
+            Contact-wire node at each mast. [-]
+        """
         n_wire_nodes = len(self.node_mass)
         for m, node in enumerate(mast_cw):
             if isinstance(support, SteadyArm):
@@ -133,7 +224,17 @@ class SectionElements:
                 self.fixed[node, 1] = True  # a spring support has no lateral freedom of its own
 
     def add_messenger_wire_supports(self, support, mast_mw: np.ndarray, normal: np.ndarray) -> None:
-        """A pin (across the track and vertically) or a ground spring at each mast."""
+        """A pin (across the track and vertically) or a ground spring at each mast.
+
+        Parameters
+        ----------
+        support : SpringSupport or object
+            The messenger wire's support (a pin when it is not a ground spring).
+        mast_mw : ndarray of int
+            Messenger-wire node at each mast. [-]
+        normal : ndarray, shape (n_masts, 3)
+            Horizontal unit vector across the track at each mast, :func:`mast_normals`. [-]
+        """
         for m, node in enumerate(mast_mw):
             if isinstance(support, SpringSupport):
                 self.fixed[node, 1] = True

@@ -37,7 +37,7 @@ class SectionStations:
     local : ndarray
         Distance of each node from its span's first mast. [m]
     span : ndarray of int
-        Span (from 0) of each node; a mast node belongs to the span it starts.
+        Span (from 0) of each node; a mast node belongs to the span it starts. [-]
     is_dropper : ndarray of bool
         Whether a dropper hangs at the node.
     mast_station : ndarray
@@ -121,7 +121,13 @@ def track_plan(spans: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def mast_normals(heading: np.ndarray) -> np.ndarray:
-    """Horizontal unit vector across the track, to the left, at each mast (rows). [-]"""
+    """Horizontal unit vector across the track, to the left, at each mast (rows). [-]
+
+    Parameters
+    ----------
+    heading : ndarray
+        Direction of the track at each mast, from the x axis. [rad]
+    """
     return np.column_stack([-np.sin(heading), np.cos(heading), np.zeros_like(heading)])
 
 
@@ -133,6 +139,17 @@ def design_wire_positions(catenary: Catenary, stations: SectionStations, track_x
     line). Contact wire: the straight line between its support heights less the pre-sag depth.
     Messenger wire: the straight line between the mast heights (contact-wire height plus system
     height) less the parabolic sag of a cable carrying both wires (:func:`messenger_sag_guess`).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The catenary.
+    stations : SectionStations
+        Node stations along the section.
+    track_xy : ndarray, shape (n_masts, 2)
+        Plan position of the track centre line at each mast. [m]
+    normal : ndarray, shape (n_masts, 3)
+        Horizontal unit vector across the track at each mast, :func:`mast_normals`. [-]
     """
     spans = np.asarray(catenary.layout.span_lengths)
     n_spans = len(spans)
@@ -154,7 +171,15 @@ def design_wire_positions(catenary: Catenary, stations: SectionStations, track_x
 
 
 def messenger_sag_guess(catenary: Catenary, span_lengths: np.ndarray) -> np.ndarray:
-    """Parabolic mid-span sag of the messenger wire carrying both wires' weight (first guess). [m]"""
+    """Parabolic mid-span sag of the messenger wire carrying both wires' weight (first guess). [m]
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The catenary (wire masses, messenger-wire tension).
+    span_lengths : ndarray
+        Span lengths. [m]
+    """
     weight = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length)
     return weight * span_lengths**2 / (8.0 * catenary.messenger_wire.tension)
 
@@ -176,6 +201,21 @@ def steady_arm_pivots(
     away from the wire's pull; a push-off arm (compression) is shortened and points towards it, so
     that Newton's method starts with the arm's geometric stiffness of the right sign (negative
     vertically for a push-off arm: an inverted pendulum).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The catenary.
+    wire_pos : ndarray, shape (n_wire_nodes, 3)
+        Design coordinates of the contact-wire and messenger-wire nodes. [m]
+    cw_nodes : ndarray of int
+        Contact-wire nodes in order along the wire. [-]
+    mast_cw : ndarray of int
+        Contact-wire node at each mast. [-]
+    termination : ndarray
+        Termination forces of the wire ends on every DOF (zero elsewhere). [N]
+    arm_masts : list of int
+        Masts with a steady arm. [-]
 
     Raises
     ------

@@ -448,7 +448,7 @@ class Catenary:
         Parameters
         ----------
         span : int
-            Span, from 0.
+            Span, from 0. [-]
         positions : ndarray
             Distances from the span's first mast, within [0, l]. [m]
         """
