@@ -13,7 +13,7 @@ from presag_opt.cli.common import (
     print_warnings,
     progress,
 )
-from presag_opt.cli.presag import add_band_options, operating_band
+from presag_opt.cli.presag import add_band_options, check_band_speed, operating_band
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -63,6 +63,7 @@ def design_command(args: argparse.Namespace) -> int:
     survey = load_survey(args.survey, working_width=args.working_width * 1e-3)
     base = load_catenary(args.system)
     band = operating_band(args)
+    check_band_speed(args, [base])
     options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=args.workers)
     folder = output_folder(args.out)
     start = time.perf_counter()

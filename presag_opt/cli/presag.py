@@ -30,7 +30,9 @@ from presag_opt.design import (
     recommend,
 )
 from presag_opt.errors import ModelError
+from presag_opt.speed import check_speed_limit
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.system.loader import load_catenary
 from presag_opt.validation import compare_with_paper
 
 
@@ -97,6 +99,28 @@ def add_band_options(parser: argparse.ArgumentParser) -> None:
         "--aero", metavar="N/(KMH)^2", type=positive_float, default=case.aero_coefficient * KMH**2,
         help="aerodynamic uplift coefficient α_ae in N/(km/h)² (default 0.00097)",
     )
+    parser.add_argument(
+        "--allow-supercritical", action="store_true",
+        help="accept a --max-speed at or above β = 0.7 of a model's contact-wire wave speed (EN 50119's limit)",
+    )
+
+
+def check_band_speed(args: argparse.Namespace, models: list) -> None:
+    """Refuse a band whose ``--max-speed`` is at or above β = 0.7 on any of the models (catenaries or
+    names of model files), before any work, unless ``--allow-supercritical`` accepts it.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed options of a command with :func:`add_band_options`.
+    models : list of Catenary or str
+        The catenaries the band is designed on, or their model names or paths.
+    """
+    if args.allow_supercritical:
+        return
+    for model in models:
+        catenary = load_catenary(model) if isinstance(model, str) else model
+        check_speed_limit(args.max_speed * KMH, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
 
 
 def parse_tension(text: str) -> tuple[float, float]:
@@ -161,6 +185,7 @@ def recommend_command(args: argparse.Namespace) -> int:
     plot_single = output_path(args.plot_single_curve, "--plot-single-curve") if args.plot_single_curve else None
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     band = operating_band(args)
+    check_band_speed(args, models)
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
         common = dict(

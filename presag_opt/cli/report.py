@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from presag_opt.cli.common import add_json_flag, model_help, output_folder, print_json, print_warnings, progress
-from presag_opt.cli.presag import add_band_options, operating_band
+from presag_opt.cli.presag import add_band_options, check_band_speed, operating_band
 from presag_opt.cli.robust import parse_within
 from presag_opt.design.band import KMH
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
@@ -52,6 +52,7 @@ def report_command(args: argparse.Namespace) -> int:
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     within = parse_within(args.within)
     band = operating_band(args)
+    check_band_speed(args, models)
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
         result = design_report(models, band=band, pantograph=args.pantograph or CASE_STUDY_PANTOGRAPH,

@@ -48,6 +48,12 @@ REFUSALS = {
     "speed above the wave speed (no option accepts it)": (
         ["simulate", "--case", "case_study_st98", "--speed", "400", "--allow-supercritical"], 2,
         r"speed = 400 km/h is outside the valid range \[0, 344\.\d+\) km/h"),
+    "recommend with a band reaching beta >= 0.7": (
+        ["recommend", "--max-speed", "260"], 2,
+        r"speed = 260 km/h is β = 0\.75 of the contact-wire wave speed 345 km/h, .*give --allow-supercritical"),
+    "report with a band reaching beta >= 0.7": (
+        ["report", "--quick", "--max-speed", "300", "--out", "{tmp}/report"], 2,
+        r"speed = 300 km/h is β = 0\.87 .*give --allow-supercritical to run it anyway"),
     "sweep whose grid reaches beta >= 0.7": (
         ["sweep", "{fast_study}", "--out", "{tmp}/fast.nc"], 2,
         r"speed = 260 km/h is β = 0\.75 .*give --allow-supercritical \(allow_supercritical=True\) to run it anyway"),
@@ -111,7 +117,7 @@ def test_refusal_is_one_line_with_its_status(case, folder):
 
 def test_the_near_critical_warning_is_one_line_and_in_the_json(tmp_path):
     """A warning raised inside the package (speed.py) reaches the user once, as one line, and in --json."""
-    result = _run(["recommend", "--max-speed", "260", "--json"], tmp_path)
+    result = _run(["recommend", "--max-speed", "260", "--allow-supercritical", "--json"], tmp_path)
     assert result.returncode == 0, result.stderr
     expected = ("speed ratio β = 0.75 exceeds 0.7 (EN 50119): wave reflections and the Doppler effect dominate the "
                 "interaction")

@@ -117,3 +117,15 @@ def test_dynamic_check_simulates_the_worst_section_and_decides_again(tmp_path):
     assert not any("dynamic steady-arm uplift" in n for n in decision["not_checked"])
     page = (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
     assert "id='dynamic'" in page and "σ/F_m" in page
+
+
+def test_a_band_at_or_above_the_en50119_speed_ratio_is_refused_before_any_work(tmp_path):
+    """β ≥ 0.7 at the band's top speed: one line naming the speed, its β and the option that accepts it."""
+    survey = survey_file(tmp_path, line_rows())
+    result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--max-speed", "260",
+                    *FAST, cwd=tmp_path)
+    assert result.returncode == 2 and result.stdout == ""
+    assert result.stderr.strip().splitlines() == [
+        "presag: error: speed = 260 km/h is β = 0.75 of the contact-wire wave speed 345 km/h, at or above the "
+        "EN 50119 limit β < 0.7 (speeds below 241 km/h); give --allow-supercritical to run it anyway"]
+    assert not (tmp_path / "out").exists()
