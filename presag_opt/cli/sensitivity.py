@@ -102,7 +102,20 @@ def sensitivity_command(args: argparse.Namespace) -> int:
 
 
 def save_sensitivity_figures(result, folder):
-    """The figures of a result (imports matplotlib only when asked)."""
+    """The figures of a result (imports matplotlib only when asked).
+
+    Parameters
+    ----------
+    result : SensitivityResult
+        The result to draw.
+    folder : str or Path
+        Folder the figures are written into.
+
+    Returns
+    -------
+    list of Path
+        The figures written.
+    """
     from presag_opt.sensitivity.plots import save_sensitivity_plots
 
     return save_sensitivity_plots(result, folder)

@@ -86,7 +86,25 @@ def check_options(args: argparse.Namespace) -> None:
 
 def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dynamic_defaults: dict) -> int:
     """``presag tolerance --monte-carlo``; ``study_for(args)`` gives the quasi-static robust study,
-    ``dynamic_defaults`` the band, grid, pantograph and α_ae of ``presag robust --dynamic``."""
+    ``dynamic_defaults`` the band, grid, pantograph and α_ae of ``presag robust --dynamic``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+    study_for : callable
+        Maps ``args`` to the quasi-static robust study.
+    within : float
+        Allowed loss of the held percentile relative to the error-free worst case, for
+        ``--find-dropper-tolerance`` (0.1 for 10 %). [-]
+    dynamic_defaults : dict
+        Defaults of ``presag robust --dynamic`` (band, grid, pantograph, α_ae).
+
+    Returns
+    -------
+    int
+        Exit status. [-]
+    """
     from presag_opt.robust.installation import InstallationErrors
 
     dropper = _number(args, "dropper_error", "mm", 0.0, MAX_ERROR_MM)

@@ -106,7 +106,20 @@ class FleetGrid:
         return np.concatenate([share * per_point for share in self.shares])
 
     def of_type(self, values: np.ndarray, k: int) -> np.ndarray:
-        """The entries of type ``k`` from an array over all points."""
+        """The entries of type ``k`` from an array over all points.
+
+        Parameters
+        ----------
+        values : ndarray
+            One value per point of the fleet grid, type after type. [any unit]
+        k : int
+            Index of the type. [-]
+
+        Returns
+        -------
+        ndarray
+            The values of the points of type ``k``. [unit of ``values``]
+        """
         n = self.points_per_type
         return np.asarray(values)[k * n : (k + 1) * n]
 
@@ -171,7 +184,18 @@ class FleetEvaluator:
         return self.evaluate_many([presag_rel])[0]
 
     def evaluate_many(self, presags) -> list[BandEvaluation]:
-        """Simulate several pre-sags for every type (what a type has simulated before is reused)."""
+        """Simulate several pre-sags for every type (what a type has simulated before is reused).
+
+        Parameters
+        ----------
+        presags : sequence of float
+            Relative pre-sags S_rel. [-]
+
+        Returns
+        -------
+        list of BandEvaluation
+            One per pre-sag, in order, joined over the types.
+        """
         presags = [float(s) for s in presags]
         new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
         pairs = [(m, s) for m in self.members for s in new if s not in m.evaluations]

@@ -146,7 +146,13 @@ class InstallationSample:
         return np.hstack([self.dropper, self.contact_wire, self.messenger])
 
     def row(self, i: int) -> InstallationSample:
-        """Realisation ``i`` alone (arrays of one row)."""
+        """Realisation ``i`` alone (arrays of one row).
+
+        Parameters
+        ----------
+        i : int
+            Index of the realisation. [-]
+        """
         return InstallationSample(dropper=self.dropper[i : i + 1], contact_wire=self.contact_wire[i : i + 1],
                                   messenger=self.messenger[i : i + 1])
 

@@ -66,7 +66,13 @@ class Percentile:
     high: float
 
     def to_dict(self, scale: float = 1.0) -> dict:
-        """``{"value", "ci"}`` with every number multiplied by ``scale``."""
+        """``{"value", "ci"}`` with every number multiplied by ``scale``.
+
+        Parameters
+        ----------
+        scale : float
+            Factor on every number, e.g. 1000 for m to mm. [-]
+        """
         return {"value": self.value * scale, "ci": [self.low * scale, self.high * scale]}
 
 
@@ -138,7 +144,13 @@ class MonteCarloResult:
         return len(self.worst_case)
 
     def relative_loss(self, level: int = 95) -> float:
-        """Percentile ``level`` over the error-free worst case, minus 1. [-]"""
+        """Percentile ``level`` over the error-free worst case, minus 1. [-]
+
+        Parameters
+        ----------
+        level : int
+            Percentile, one of those summarised (:data:`PERCENTILES`). [%]
+        """
         return self.percentiles[level].value / self.nominal_worst_case - 1.0
 
 
@@ -187,7 +199,17 @@ class QuasiStaticMonteCarlo:
         self._draws: dict = {}
 
     def draws(self, samples: int, distribution: str, seed: int) -> StandardDraws:
-        """The standard draws of this section (drawn once per samples, distribution and seed)."""
+        """The standard draws of this section (drawn once per samples, distribution and seed).
+
+        Parameters
+        ----------
+        samples : int
+            Realisations. [-]
+        distribution : {"normal", "uniform"}
+            Unit normal, or uniform on [−1, 1].
+        seed : int
+            Seed of the draws. [-]
+        """
         key = (samples, distribution, seed)
         if key not in self._draws:
             self._draws[key] = draw_installation_errors(samples, self.dropper_count, self.mast_count,

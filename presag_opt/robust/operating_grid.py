@@ -119,6 +119,17 @@ class OperatingGrid:
         """Refuse, before any work, a grid the catenary cannot be simulated at (with the pantograph
         spacings of the train, if several, in m).
 
+        Parameters
+        ----------
+        catenary : Catenary
+            System model.
+        pantograph : Pantograph
+            Pantograph model.
+        settings : SimulationSettings
+            Numerical settings of the runs.
+        spacings : tuple of float, optional
+            Distances between consecutive pantographs of the train, front to rear; None for one. [m]
+
         Raises
         ------
         ModelError

@@ -231,7 +231,7 @@ def sensitivity_analysis(
         Folder of the resumable stores: per-sample study stores (dynamic outputs), or one file per
         evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
     resolution : Resolution, optional
-        Numerics of dynamic outputs (default :class:`~presag_opt.sensitivity.dynamic.Resolution`()).
+        Numerics of dynamic outputs (default: a :class:`~presag_opt.sensitivity.dynamic.Resolution` with its defaults).
     announce : callable, optional
         Called once with the cost estimate (first evaluation × evaluations / workers).
     progress : callable, optional

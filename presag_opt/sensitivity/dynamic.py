@@ -120,7 +120,19 @@ class DynamicOutput:
         return (("beta_star", "-"), ("beta_star_censored", "-"))
 
     def definition(self, base: StudyDefinition, roots: dict, names: Sequence[str], row: np.ndarray) -> StudyDefinition:
-        """The reduced study of one sample (its inputs applied to the model)."""
+        """The reduced study of one sample (its inputs applied to the model).
+
+        Parameters
+        ----------
+        base : StudyDefinition
+            The study the sample's is reduced from (:func:`base_study`).
+        roots : dict
+            Root name -> model object the inputs are applied to.
+        names : sequence of str
+            Input names, in the order of ``row``.
+        row : ndarray, shape (k,)
+            The sample's input values. [SI units of the inputs]
+        """
         model = apply_inputs(roots, dict(zip(names, (float(v) for v in row))))
         operation = model["operation"]
         if self.kind == "dynamic":
@@ -256,7 +268,13 @@ def _run_dask(definitions, tasks, address: str, collect) -> None:
 
 
 def base_study(case) -> StudyDefinition:
-    """The study a case's samples are reduced from: the paper's grid with the case's models and settings."""
+    """The study a case's samples are reduced from: the paper's grid with the case's models and settings.
+
+    Parameters
+    ----------
+    case : SimulationCase
+        The case (its pantograph, settings and operation's α_ae are taken).
+    """
     from presag_opt.studies.definition import load_study
 
     base = load_study("paper_grid_st98")

@@ -275,7 +275,13 @@ def span_list_bank() -> tuple[tuple[float, ...], ...]:
 
 
 def span_list_of(u: float) -> tuple[float, ...]:
-    """The span list the span-list input's value u in [0, 1] stands for. [m]"""
+    """The span list the span-list input's value u in [0, 1] stands for. [m]
+
+    Parameters
+    ----------
+    u : float
+        Value of the span-list input, in [0, 1]. [-]
+    """
     bank = span_list_bank()
     return bank[min(int(u * len(bank)), len(bank) - 1)]
 

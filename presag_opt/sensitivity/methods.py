@@ -222,7 +222,17 @@ def spread_design(inputs: Sequence[SensitivityInput], samples: int, seed: int) -
 
 
 def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndices:
-    """Mean and standard deviation of an output over a spread sample (no indices)."""
+    """Mean and standard deviation of an output over a spread sample (no indices).
+
+    Parameters
+    ----------
+    values : ndarray, shape (n,)
+        The output at each sample; non-finite values are left out. [unit]
+    output : str
+        Output name (for the table).
+    unit : str
+        Output unit (for the table).
+    """
     finite = values[np.isfinite(values)]
     return OutputIndices(output=output, unit=unit, method="spread", mean=float(np.mean(finite)) if len(finite) else
                          math.nan, std=float(np.std(finite)) if len(finite) else math.nan)
@@ -332,8 +342,18 @@ def sobol_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values: 
 
     Parameters
     ----------
-    inputs, rows, values, output, unit, seed
-        As for :func:`morris_indices` (``rows`` from :func:`sobol_design`).
+    inputs : sequence of SensitivityInput
+        The inputs of the design.
+    rows : ndarray, shape (n, k)
+        The design (:func:`sobol_design`). [SI units of the inputs]
+    values : ndarray, shape (n,)
+        The output at each row. [unit]
+    output : str
+        Output name (for the table).
+    unit : str
+        Output unit (for the table).
+    seed : int
+        Seed of the bootstrap. [-]
     """
     _check_finite(output, values, rows, inputs)
     if np.ptp(values) == 0.0:

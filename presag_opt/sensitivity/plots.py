@@ -53,7 +53,20 @@ def plot_sobol(table: OutputIndices, path: str | Path) -> Path:
 
 
 def save_sensitivity_plots(result, folder: str | Path) -> list[Path]:
-    """One figure per value of a :class:`~presag_opt.sensitivity.analysis.SensitivityResult` into ``folder``."""
+    """One figure per value of a :class:`~presag_opt.sensitivity.analysis.SensitivityResult` into ``folder``.
+
+    Parameters
+    ----------
+    result : SensitivityResult
+        The result to draw (its method picks the Morris or the Sobol figure).
+    folder : str or Path
+        Folder the figures are written into.
+
+    Returns
+    -------
+    list of Path
+        The figures written, one per value.
+    """
     folder = Path(folder)
     draw = plot_morris if result.method == "morris" else plot_sobol
     stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", result.output)

@@ -41,7 +41,15 @@ class Dependence:
 
 
 def recommendation_dependence(top: int = 5, value: str = "presag_rel") -> Dependence | None:
-    """The ``top`` inputs of a value of the shipped screening, or None if none is shipped."""
+    """The ``top`` inputs of a value of the shipped screening, or None if none is shipped.
+
+    Parameters
+    ----------
+    top : int
+        How many inputs, by μ*. [-]
+    value : str
+        The screened value, e.g. ``presag_rel``.
+    """
     try:
         data = json.loads(resources.files("presag_opt.sensitivity").joinpath("data", SHIPPED).read_text())
     except FileNotFoundError:

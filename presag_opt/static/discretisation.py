@@ -155,7 +155,7 @@ class Discretisation:
         Balance-weight pulls at the wire ends. [N]
     stitch_chains : tuple of ndarray of int
         Per stitched mast, the stitch wire's nodes along the track, its messenger-wire clamp nodes at
-        the ends (empty for a simple catenary); the stitch-wire nodes are numbered after the wires.
+        the ends (empty for a simple catenary); the stitch-wire nodes are numbered after the wires. [-]
     stitch_dropper : ndarray of bool or None
         Per dropper (in ``dropper_elements`` order), whether it is a stitch dropper (None: none are).
     """

@@ -31,13 +31,13 @@ class StitchParts:
         Design coordinates of the new stitch-wire nodes (numbered after the wires). [m]
     chains : tuple of ndarray of int
         Per inner mast, the stitch wire's nodes in along-track order, its two messenger-wire clamp
-        nodes at the ends.
+        nodes at the ends. [-]
     masts : ndarray of int
-        The mast of each chain.
+        The mast of each chain. [-]
     dropper_elements : ndarray of int
-        Axial-element indices of the stitch droppers, in along-track order.
+        Axial-element indices of the stitch droppers, in along-track order. [-]
     dropper_cw_nodes : ndarray of int
-        Contact-wire node of each stitch dropper.
+        Contact-wire node of each stitch dropper. [-]
     """
 
     positions: np.ndarray
@@ -50,6 +50,28 @@ class StitchParts:
 def add_stitch_wires(parts: SectionElements, cat: Catenary, stations: SectionStations, cw_nodes: np.ndarray,
                      mw_nodes: np.ndarray, cw_pos: np.ndarray, mw_pos: np.ndarray) -> StitchParts:
     """Add the stitch wires and their droppers to ``parts`` (nodes after the wires, before any pivot).
+
+    Parameters
+    ----------
+    parts : SectionElements
+        Elements collected so far (the wires and their droppers); extended in place.
+    cat : Catenary
+        System model; without a stitch wire nothing is added.
+    stations : SectionStations
+        Along-track stations of the wire nodes.
+    cw_nodes : ndarray of int, shape (n_stations,)
+        Contact-wire node of each station. [-]
+    mw_nodes : ndarray of int, shape (n_stations,)
+        Messenger-wire node of each station. [-]
+    cw_pos : ndarray, shape (n_stations, 3)
+        Design coordinates of the contact-wire nodes. [m]
+    mw_pos : ndarray, shape (n_stations, 3)
+        Design coordinates of the messenger-wire nodes. [m]
+
+    Returns
+    -------
+    StitchParts
+        What was added (empty when the catenary has no stitch wire).
 
     Raises
     ------

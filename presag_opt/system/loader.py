@@ -405,7 +405,7 @@ class ModelEntry:
     note : str
         Where the number comes from, or why it was chosen.
     range : tuple of float or None
-        Plausible range as written (in ``unit``), or None if none is declared.
+        Plausible range as written (in ``unit``), or None if none is declared. [``unit``]
     range_note : str
         Why that range.
     """

@@ -71,7 +71,7 @@ class StitchWire:
         Parameters
         ----------
         span : int
-            Span, from 0.
+            Span, from 0. [-]
         n_spans : int
             Spans of the section (its end masts are not stitched). [-]
         span_length : float
