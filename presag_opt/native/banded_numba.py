@@ -52,7 +52,17 @@ def banded_cholesky_solve(factor, x, columns):
 @njit(cache=True)
 def backward_substitution(factor, x, columns):
     """Solve Lᵀ y = x in place for the first ``columns`` columns (the second half of
-    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep)."""
+    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep).
+
+    Parameters
+    ----------
+    factor : ndarray, shape (n, bw + 1)
+        Lower band of the Cholesky factor L. [√(N/m)]
+    x : ndarray, shape (n, m)
+        Right-hand sides, overwritten by the solution. [-]
+    columns : int
+        Number of leading columns to solve. [-]
+    """
     n, width = factor.shape
     bw = width - 1
     acc = np.empty(columns)
