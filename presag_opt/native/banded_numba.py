@@ -57,11 +57,12 @@ def backward_substitution(factor, x, columns):
     Parameters
     ----------
     factor : ndarray, shape (n, bw + 1)
-        Lower band of the Cholesky factor L. [√(N/m)]
+        The Cholesky factor by rows, ``factor[j, k] = L[j + k, j]``. [sqrt of the matrix's unit]
     x : ndarray, shape (n, m)
-        Right-hand sides, overwritten by the solution. [-]
+        Forward-substituted right-hand sides L⁻¹ b in, overwritten by the solution (in the batch
+        simulator the displacement increment δ_lin). [unit of the solution]
     columns : int
-        Number of leading columns to solve. [-]
+        How many leading columns to solve (the others are left as they are). [-]
     """
     n, width = factor.shape
     bw = width - 1
