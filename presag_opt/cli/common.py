@@ -77,6 +77,13 @@ def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Name
     :data:`EXIT_BROKEN_PIPE`; a file that cannot be written (:class:`OSError`) ends it with one line
     and :data:`EXIT_STORAGE`; any other error with one line and :data:`EXIT_INTERNAL` (the traceback
     only with ``PRESAG_DEBUG=1``).
+
+    Parameters
+    ----------
+    handler : callable
+        Sub-command handler taking the parsed options and returning an exit code or None.
+    args : argparse.Namespace
+        Parsed options of the sub-command.
     """
     _SHOWN_WARNINGS.clear()
     with warnings.catch_warnings():
@@ -210,7 +217,15 @@ class Progress:
 
 def progress(args: argparse.Namespace, total: int | None = None) -> Progress:
     """The :class:`Progress` display for a sub-command's options: off with ``--quiet``; with
-    ``--progress`` at once, else on a terminal after :data:`PROGRESS_DELAY`."""
+    ``--progress`` at once, else on a terminal after :data:`PROGRESS_DELAY`.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed options of the sub-command.
+    total : int, optional
+        Number of steps to be counted (None: unknown). [-]
+    """
     return Progress(progress_enabled(args), total, delay=0.0 if getattr(args, "progress", False) else PROGRESS_DELAY)
 
 

@@ -253,7 +253,13 @@ def _dynamic_check(args: argparse.Namespace, study, catenary, pantograph, settin
 
 def check_settings(catenary):
     """Numerics of ``--check-speeds``: automatic, two lead-in and two analysed spans where the section
-    has them, fewer on a short one (lead-in spans on both sides of the analysed ones)."""
+    has them, fewer on a short one (lead-in spans on both sides of the analysed ones).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The section to be simulated.
+    """
     from presag_opt.dynamics.settings import SimulationSettings
 
     spans = catenary.layout.n_spans

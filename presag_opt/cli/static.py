@@ -79,7 +79,15 @@ def add_element_flag(parser: argparse.ArgumentParser) -> None:
 
 
 def span_index(args: argparse.Namespace, n_spans: int) -> int | None:
-    """The 0-based span from ``--span`` (1-based), checked."""
+    """The 0-based span from ``--span`` (1-based), checked.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed options of the sub-command.
+    n_spans : int
+        Number of spans of the section. [-]
+    """
     if args.span is None:
         return None
     if not 1 <= args.span <= n_spans:

@@ -153,7 +153,17 @@ def force_levels_for_band(low: float, high: float, spacing: float = FORCE_LEVEL_
 
 
 def check_levels_cover(levels: Sequence[float], low: float, high: float) -> None:
-    """Raise ModelError unless the force levels [N] are positive and span the mean-force band [low, high] [N]."""
+    """Raise ModelError unless the force levels [N] are positive and span the mean-force band [low, high] [N].
+
+    Parameters
+    ----------
+    levels : sequence of float
+        Mean-force levels of the elasticity study. [N]
+    low : float
+        Lower end of the mean-force band. [N]
+    high : float
+        Upper end of the mean-force band. [N]
+    """
     bad = [f for f in levels if not 0.0 < f <= 2000.0]
     if bad:
         raise ModelError(f"force level = {bad[0]:g} N is outside the valid range (0, 2000] N")

@@ -137,7 +137,13 @@ class SectionElasticity:
         return layout_kind(self.catenary)
 
     def curves_at(self, mean_force: float) -> tuple[ElasticityCurve, ...]:
-        """Each analysed span's elasticity curve interpolated at ``mean_force``."""
+        """Each analysed span's elasticity curve interpolated at ``mean_force``.
+
+        Parameters
+        ----------
+        mean_force : float
+            Mean contact force F_m. [N]
+        """
         return tuple(interpolate_elasticity(s.nonlinear, mean_force) for s in self.studies)
 
     def presag(self, mean_force: float, method: str = "delta-e") -> SectionPresag:
@@ -163,7 +169,15 @@ class SectionElasticity:
         )
 
     def presag_rel_curve(self, mean_forces: Sequence[float], method: str = "delta-e") -> np.ndarray:
-        """The section's S_rel (mean over spans) at each mean force. [-]"""
+        """The section's S_rel (mean over spans) at each mean force. [-]
+
+        Parameters
+        ----------
+        mean_forces : sequence of float
+            Mean contact forces F_m. [N]
+        method : {"delta-e", "mid-mast"}
+            Pre-sag variant (see :meth:`SectionElasticity.presag`).
+        """
         return np.array([self.presag(f, method).presag_rel_mean for f in mean_forces])
 
 

@@ -58,7 +58,23 @@ class DropperStep(NamedTuple):
 
 @kernel_function
 def influence(j, m, n, column_of, columns, pantograph_inverse):
-    """Entry (j, m) of K_eff⁻¹ on the extended DOFs. [m/N]"""
+    """Entry (j, m) of K_eff⁻¹ on the extended DOFs. [m/N]
+
+    Parameters
+    ----------
+    j : int
+        Row, an extended DOF. [-]
+    m : int
+        Column, an extended DOF of the set. [-]
+    n : int
+        Number of catenary DOFs (the pantograph DOFs follow). [-]
+    column_of : ndarray of int
+        Column of ``columns`` holding each catenary DOF's influence column (-1: none). [-]
+    columns : ndarray, shape (n_columns, n)
+        Influence columns K_eff⁻¹ e_m of the candidate DOFs. [m/N]
+    pantograph_inverse : ndarray, shape (n_p, n_p)
+        Inverse of the pantographs' effective stiffness. [m/N]
+    """
     if j < n and m < n:
         return columns[column_of[m], j]
     if j >= n and m >= n:
@@ -68,7 +84,23 @@ def influence(j, m, n, column_of, columns, pantograph_inverse):
 
 @kernel_function
 def enter_set(dof, set_dofs, set_force, tangent, position, count):
-    """Position of ``dof`` in the current nonlinear set, adding it (zero force and tangent) if new."""
+    """Position of ``dof`` in the current nonlinear set, adding it (zero force and tangent) if new.
+
+    Parameters
+    ----------
+    dof : int
+        Degree of freedom (extended: pantograph DOFs after the catenary's). [-]
+    set_dofs : ndarray of int
+        DOFs of the set, in order of entry. [-]
+    set_force : ndarray
+        Nonlinear force on each DOF of the set. [N]
+    tangent : ndarray, shape (m, m)
+        Dense Newton tangent on the set. [N/m]
+    position : ndarray of int
+        Position of each DOF in the set (-1: not in it). [-]
+    count : int
+        Current size of the set. [-]
+    """
     p = position[dof]
     if p >= 0:
         return p, count
@@ -89,6 +121,23 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
     contact nodes and the pantograph DOFs, and every dropper's stretch ``scratch.stretch`` [m] and
     rate ``scratch.rate`` [m/s]. Writes the set's DOFs, forces [N], dense tangent [N/m] and each
     contact force [N] into ``scratch``; returns (set size, recorded droppers slack).
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    a1 : float
+        Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     """
     head_dof, contact_stiffness_, cw_height = shared.head_dof, shared.contact_stiffness, shared.cw_height
     friction_dofs, friction_levels = shared.friction_dofs, shared.friction_levels
@@ -570,6 +619,27 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
     and ``work.delta`` holds δ_lin. Leaves φ's catenary part in ``work`` (columns and coefficients
     s φ) for the state update, the pantographs' new state in ``state``, and stops a run whose
     iteration fails.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : Records
+        The records being written.
+    work : Work
+        Work arrays of the sweeps.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     pan = pantograph_predictor(b, scalars, shared, runs, state)
@@ -592,7 +662,21 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
 
 @kernel_function
 def linear_column(b, scalars, shared, state, out):
-    """out[:, b] = C ṽ + K ũ of run ``b`` (α_R M ṽ + K q), for a run that converged at its predictor. [N]"""
+    """out[:, b] = C ṽ + K ũ of run ``b`` (α_R M ṽ + K q), for a run that converged at its predictor. [N]
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : ndarray, shape (n, n_runs)
+        Array receiving the column. [N]
+    """
     band, mass, v, q = shared.stiffness_band, shared.mass, state.v, state.q
     n, width = band.shape
     bw = width - 1

@@ -254,7 +254,15 @@ def _build_system(
 
 
 def step_count(duration: float, time_step: float) -> int:
-    """Number of time steps that cover ``duration`` [s] at ``time_step`` [s] (rounded up). [-]"""
+    """Number of time steps that cover ``duration`` [s] at ``time_step`` [s] (rounded up). [-]
+
+    Parameters
+    ----------
+    duration : float
+        Simulated time. [s]
+    time_step : float
+        Time step. [s]
+    """
     if not duration > 0.0:
         raise ModelError(f"duration = {duration!r} s must be positive")
     return int(np.ceil(duration / time_step - 1e-9))

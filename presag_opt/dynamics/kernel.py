@@ -49,6 +49,17 @@ def band_matvec(band, x, out, runs):
 
     Row by row (each output row written once, its inputs read from a window of 2·bw + 1 rows that
     stays in cache), the runs innermost.
+
+    Parameters
+    ----------
+    band : ndarray, shape (n, bw + 1)
+        Lower band of the symmetric matrix A. [N/m]
+    x : ndarray, shape (n, n_runs)
+        Vectors to multiply, one per column. [m]
+    out : ndarray, shape (n, n_runs)
+        Array receiving A x. [N]
+    runs : int
+        Number of leading columns to multiply. [-]
     """
     n, width = band.shape
     bw = width - 1
@@ -76,6 +87,21 @@ def initialise(scalars, shared, runs, state, out, scratch):
     r = K u + f_nl(u, 0) on the catenary and the pantographs, as the integrator's initial state;
     the contact forces, slack droppers and support uplifts of the first record. At rest the
     predictors of step 1 are ũ = u, ṽ = 0 (see :func:`advance` for what the arrays hold).
+
+    Parameters
+    ----------
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : Records
+        The records being written.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     """
     sh, sc = shared, scratch
     u, v, q, r = state.u, state.v, state.q, state.r
@@ -142,6 +168,31 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
     The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
     function pointers ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments,
     same numbers to the last bit; the catenary's run arrays padded to whole blocks of lanes).
+
+    Parameters
+    ----------
+    first_step : int
+        First record to compute (from 1). [-]
+    last_step : int
+        Last record to compute. [-]
+    compiled : bool
+        Whether the sweeps run in compiled C.
+    c_sweeps : CSweeps
+        Function pointers of the compiled sweeps (unused without ``compiled``).
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : Records
+        The records being written.
+    work : Work
+        Work arrays of the sweeps.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     """
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
@@ -164,7 +215,19 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
 @kernel_function
 def start_step(step, runs, out, work):
     """The number of leading runs the step must sweep (0: all have stopped), their force scale and
-    residual at the predictor reset."""
+    residual at the predictor reset.
+
+    Parameters
+    ----------
+    step : int
+        Record (time step) being computed. [-]
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    out : Records
+        The records being written.
+    work : Work
+        Work arrays of the sweeps.
+    """
     n_steps, status, scale, first_residual = runs.n_steps, out.status, work.scale, work.first_residual
     active = 0
     for b in range(n_steps.shape[0]):
@@ -178,7 +241,29 @@ def start_step(step, runs, out, work):
 
 @kernel_function
 def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch):
-    """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others)."""
+    """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others).
+
+    Parameters
+    ----------
+    step : int
+        Record (time step) being computed. [-]
+    active : int
+        Number of leading runs (columns) the sweep covers. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : Records
+        The records being written.
+    work : Work
+        Work arrays of the sweeps.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    """
     n_steps, status, phi_count = runs.n_steps, out.status, work.phi_count
     for b in range(active):
         phi_count[b] = 0
@@ -188,7 +273,19 @@ def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
 
 @kernel_function
 def finish_step(step, active, runs, out):
-    """Mark the runs whose last step this was as finished."""
+    """Mark the runs whose last step this was as finished.
+
+    Parameters
+    ----------
+    step : int
+        Record (time step) being computed. [-]
+    active : int
+        Number of leading runs swept in the step. [-]
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    out : Records
+        The records being written.
+    """
     n_steps, status = runs.n_steps, out.status
     for b in range(active):
         if status[b] == STATUS_RUNNING and n_steps[b] == step:
@@ -199,7 +296,21 @@ def finish_step(step, active, runs, out):
 def forward_sweep(scalars, shared, state, work, active):
     """Sweep 1 of a step for the first ``active`` runs: C ṽ + K ũ row by row from the window of q,
     g = rhs − s (C ṽ + K ũ) (kept on the candidate rows), the force scale and residual at the
-    predictor on the other rows, and the forward substitution of K_eff δ_lin = g."""
+    predictor on the other rows, and the forward substitution of K_eff δ_lin = g.
+
+    Parameters
+    ----------
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    work : Work
+        Work arrays of the sweeps.
+    active : int
+        Number of leading runs (columns) the sweep covers. [-]
+    """
     stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
                                                           shared.candidate_index)
     v, q, r = state.v, state.q, state.r
@@ -248,7 +359,27 @@ def forward_sweep(scalars, shared, state, work, active):
 @kernel_function
 def update_sweep(step, scalars, shared, runs, state, out, work, active):
     """Sweep 3 of a step for the first ``active`` runs: δ = δ_lin − s Z φ, the converged state, the
-    support uplift of the runs still going, and the next step's predictors."""
+    support uplift of the runs still going, and the next step's predictors.
+
+    Parameters
+    ----------
+    step : int
+        Record (time step) being computed. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    state : RunState
+        State arrays of the batch (catenary and pantographs).
+    out : Records
+        The records being written.
+    work : Work
+        Work arrays of the sweeps.
+    active : int
+        Number of leading runs (columns) the sweep covers. [-]
+    """
     c = scalars.scheme
     s, a0, dt, c_a, c_v, c_g = c.s, c.a0, c.time_step, c.displacement_predictor, c.velocity_predictor, c.velocity_update
     hht_alpha, rayleigh_beta = c.alpha, scalars.rayleigh_beta

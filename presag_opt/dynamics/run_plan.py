@@ -28,7 +28,15 @@ from presag_opt.system.catenary import Catenary
 
 
 def contact_path(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Element nodes, shape weights [-] and element compliance [m/N] at contact-wire stations [m]."""
+    """Element nodes, shape weights [-] and element compliance [m/N] at contact-wire stations [m].
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The form-found catenary.
+    stations : ndarray
+        Stations along the contact wire. [m]
+    """
     disc = state.discretisation
     shape = disc.cw_shape(stations)  # two stored entries per row, zeros included, nodes in order
     return shape.indices.reshape(-1, 2), shape.data.reshape(-1, 2), disc.cw_element_compliance(stations)
@@ -146,7 +154,13 @@ class RunPlan:
 
     def window(self, pantograph: int) -> tuple[float, float]:
         """Times the given pantograph (from 0, front to rear) is in the analysed section, within the
-        simulated time (which can end up to a step early at the end of the line). [s]"""
+        simulated time (which can end up to a step early at the end of the line). [s]
+
+        Parameters
+        ----------
+        pantograph : int
+            Pantograph, from 0, front to rear. [-]
+        """
         start, end = self.analysed_section
         speed = self.operation.speed
         return (start - self.starts[pantograph]) / speed, min((end - self.starts[pantograph]) / speed, self.duration)
@@ -168,6 +182,23 @@ def plan_run(
     be a lone wire). The leading pantograph starts ``lead_in_spans`` before
     the analysed section, the others behind it at their spacings; the run ends ``run_out`` seconds
     after the rear pantograph leaves the section.
+
+    Parameters
+    ----------
+    system : Catenary or EquilibriumState
+        The catenary, or a form-found state (which may be a lone wire).
+    pantograph : Pantograph or sequence of Pantograph
+        One model for every pantograph, or one per pantograph, front to rear.
+    speed : float
+        Train speed. [m/s]
+    static_force : float
+        Static uplift force of each pantograph. [N]
+    aero_coefficient : float
+        Aerodynamic uplift coefficient: F_m = F_stat + α_ae v². [N/(m/s)²]
+    spacings : sequence of float, optional
+        Distances between consecutive pantographs, front to rear. [m]
+    settings : SimulationSettings, optional
+        Numerical settings and analysis window.
 
     Returns
     -------

@@ -89,7 +89,15 @@ class SimulationSettings:
         self, *, element_length: float | None = None, time_step: float | None = None
     ) -> SimulationSettings:
         """These settings with ``numerics = "fixed"`` at the given element length [m] and time step [s]
-        (each None: the paper's 0.5 m and 2 ms)."""
+        (each None: the paper's 0.5 m and 2 ms).
+
+        Parameters
+        ----------
+        element_length : float, optional
+            Element length (None: 0.5 m). [m]
+        time_step : float, optional
+            Time step (None: 2 ms). [s]
+        """
         return dataclasses.replace(
             self,
             numerics="fixed",
@@ -99,7 +107,15 @@ class SimulationSettings:
 
     def for_speed(self, speed: float, wave_speed: float) -> SimulationSettings:
         """The settings of a run at ``speed`` [m/s] on a wire of ``wave_speed`` [m/s]: with
-        ``numerics = "auto"`` the element length and time step from the speed, otherwise ``self``."""
+        ``numerics = "auto"`` the element length and time step from the speed, otherwise ``self``.
+
+        Parameters
+        ----------
+        speed : float
+            Train speed. [m/s]
+        wave_speed : float
+            Wave speed of the contact wire. [m/s]
+        """
         if self.numerics != "auto":
             return self
         chosen = numerics_for_speed(speed, wave_speed, self.cutoff_frequency)

@@ -52,7 +52,18 @@ def banded_cholesky_solve(factor, x, columns):
 @njit(cache=True)
 def backward_substitution(factor, x, columns):
     """Solve Lᵀ y = x in place for the first ``columns`` columns (the second half of
-    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep)."""
+    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep).
+
+    Parameters
+    ----------
+    factor : ndarray, shape (n, bw + 1)
+        The Cholesky factor by rows, ``factor[j, k] = L[j + k, j]``. [sqrt of the matrix's unit]
+    x : ndarray, shape (n, m)
+        Forward-substituted right-hand sides L⁻¹ b in, overwritten by the solution (in the batch
+        simulator the displacement increment δ_lin). [unit of the solution]
+    columns : int
+        How many leading columns to solve (the others are left as they are). [-]
+    """
     n, width = factor.shape
     bw = width - 1
     acc = np.empty(columns)

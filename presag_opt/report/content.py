@@ -134,7 +134,13 @@ class ValidityRange:
                 f"(β = {top.beta:.2f}): the limit lies above it")
 
     def uplift_up_to(self, speed: float) -> float:
-        """Largest steady-arm uplift of the runs at or below a speed (NaN if none). [m]"""
+        """Largest steady-arm uplift of the runs at or below a speed (NaN if none). [m]
+
+        Parameters
+        ----------
+        speed : float
+            Highest speed of the runs taken. [m/s]
+        """
         speeds = self.dataset["speed"].values
         inside = speeds <= speed * (1 + 1e-9)
         values = self.dataset["uplift_max"].values[:, inside, :]

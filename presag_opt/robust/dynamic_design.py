@@ -71,7 +71,15 @@ class DynamicObjective:
             raise ModelError(f"objective = {self.loss!r} is not one of {', '.join(OBJECTIVES)}")
 
     def value(self, statistics: BandStatistics, weights: np.ndarray) -> float:
-        """The risk measure of the points' losses. [- or N]"""
+        """The risk measure of the points' losses. [- or N]
+
+        Parameters
+        ----------
+        statistics : BandStatistics
+            Contact-force statistics at the grid points.
+        weights : ndarray
+            Probability of each grid point (they sum to 1). [-]
+        """
         return self.risk.value(statistics.losses(self.loss), weights)
 
     def worst_case(self, statistics: BandStatistics) -> float:

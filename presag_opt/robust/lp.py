@@ -86,7 +86,13 @@ class RobustDesign:
         return float(self.waviness.max())
 
     def mean_waviness(self, weights: np.ndarray) -> float:
-        """Probability-weighted mean R. [m]"""
+        """Probability-weighted mean R. [m]
+
+        Parameters
+        ----------
+        weights : ndarray, shape (K,)
+            Probability of each force scenario (they sum to 1). [-]
+        """
         return float(np.asarray(weights) @ self.waviness)
 
 
@@ -209,7 +215,23 @@ def evaluate_design(
     path: PathModel, depths: np.ndarray, scenarios: ForceScenarios, *, shape: str, risk: Risk,
     presag_rel: float | None = None, **extra,
 ) -> RobustDesign:
-    """Waviness of a given design over the scenarios (exact, no optimisation)."""
+    """Waviness of a given design over the scenarios (exact, no optimisation).
+
+    Parameters
+    ----------
+    path : PathModel
+        Linear model of the contact path.
+    depths : ndarray, shape (n_droppers,)
+        Pre-sag depth at each dropper of the analysed spans. [m]
+    scenarios : ForceScenarios
+        Mean-force scenarios and their probabilities.
+    shape : str
+        Label of the design's shape (e.g. ``"parabola"``).
+    risk : Risk
+        How the scenarios' waviness is aggregated.
+    presag_rel : float, optional
+        Relative pre-sag to report (None: the mean mid-span depth over span length of ``depths``). [-]
+    """
     waviness = path.waviness(depths, scenarios.forces).max(axis=1)
     if presag_rel is None:
         mid = [np.interp(0.5, path.dropper_fraction[path.dropper_span == s], depths[path.dropper_span == s]) / length

@@ -105,13 +105,25 @@ class PathModel:
         return self.section.span_lengths
 
     def parabola_depths(self, presag_rel: float) -> np.ndarray:
-        """Dropper depths of a parabolic pre-sag S_rel·l in every analysed span. [m]"""
+        """Dropper depths of a parabolic pre-sag S_rel·l in every analysed span. [m]
+
+        Parameters
+        ----------
+        presag_rel : float
+            Relative pre-sag S_rel (mid-span depth over span length). [-]
+        """
         lengths = np.asarray(self.state.catenary.layout.span_lengths)[self.dropper_span]
         t = self.dropper_fraction
         return presag_rel * lengths * 4.0 * t * (1.0 - t)
 
     def uplift(self, forces: np.ndarray) -> np.ndarray:
-        """F·e(x; F) at every path point for every force (K × points). [m]"""
+        """F·e(x; F) at every path point for every force (K × points). [m]
+
+        Parameters
+        ----------
+        forces : ndarray, shape (K,)
+            Mean contact forces F_m. [N]
+        """
         out = np.empty((len(forces), len(self.node_span)))
         for study in self.section.studies:
             sel = self.node_span == study.span
@@ -124,12 +136,31 @@ class PathModel:
         """Path height h at every point for every force (K × points). [m]
 
         ``uplift`` may pass :meth:`uplift` of the same forces, computed once for many designs.
+
+        Parameters
+        ----------
+        depths : ndarray, shape (n_droppers,)
+            Pre-sag depth at each dropper of the analysed spans. [m]
+        forces : ndarray, shape (K,)
+            Mean contact forces F_m. [N]
+        uplift : ndarray, shape (K, n_points), optional
+            Result of :meth:`uplift` for the same forces (computed here when None). [m]
         """
         z = self.base_height + self.sensitivity @ (np.asarray(depths) - self.reference_depth)
         return z[None, :] + (self.uplift(forces) if uplift is None else uplift)
 
     def waviness(self, depths: np.ndarray, forces: np.ndarray, uplift: np.ndarray | None = None) -> np.ndarray:
-        """Peak-to-peak path height R of every analysed span for every force (K × spans). [m]"""
+        """Peak-to-peak path height R of every analysed span for every force (K × spans). [m]
+
+        Parameters
+        ----------
+        depths : ndarray, shape (n_droppers,)
+            Pre-sag depth at each dropper of the analysed spans. [m]
+        forces : ndarray, shape (K,)
+            Mean contact forces F_m. [N]
+        uplift : ndarray, shape (K, n_points), optional
+            Result of :meth:`uplift` for the same forces (computed here when None). [m]
+        """
         h = self.heights(depths, forces, uplift)
         return np.column_stack([np.ptp(h[:, self.node_span == s], axis=1) for s in self.spans])
 

@@ -79,6 +79,15 @@ class ForceScenarios:
 
         A tensor grid of midpoints (``static_points`` × ``speed_points`` equally likely cells);
         forces closer than 0.01 N are merged.
+
+        Parameters
+        ----------
+        band : OperatingBand
+            Ranges of static force and speed, and the aerodynamic coefficient.
+        static_points : int
+            Midpoints across the static-force range. [-]
+        speed_points : int
+            Midpoints across the speed range. [-]
         """
         f_stat = band.static_force_low + (np.arange(static_points) + 0.5) / static_points * (
             band.static_force_high - band.static_force_low

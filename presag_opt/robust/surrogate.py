@@ -51,7 +51,13 @@ class HistorySurrogate:
             self._covariance.append(centred @ centred.T / centred.shape[1])
 
     def stencil(self, presag_rel: float) -> np.ndarray:
-        """Indices of the simulated pre-sags the value at ``presag_rel`` is interpolated from."""
+        """Indices of the simulated pre-sags the value at ``presag_rel`` is interpolated from.
+
+        Parameters
+        ----------
+        presag_rel : float
+            Relative pre-sag S_rel (mid-span depth over span length). [-]
+        """
         n = len(self.presags)
         right = int(np.searchsorted(self.presags, presag_rel))
         if right == 0:
@@ -66,7 +72,13 @@ class HistorySurrogate:
         return np.array(sorted((left, right, third)))
 
     def weights(self, presag_rel: float) -> tuple[np.ndarray, np.ndarray]:
-        """Stencil indices and their Lagrange weights at ``presag_rel`` (they sum to 1). [-]"""
+        """Stencil indices and their Lagrange weights at ``presag_rel`` (they sum to 1). [-]
+
+        Parameters
+        ----------
+        presag_rel : float
+            Relative pre-sag S_rel (mid-span depth over span length). [-]
+        """
         index = self.stencil(presag_rel)
         nodes = self.presags[index]
         w = np.ones(len(index))

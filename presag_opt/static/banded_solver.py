@@ -59,11 +59,23 @@ class BandedSolver:
         return cls(pattern, perm, bandwidth, rows[lower] - cols[lower], cols[lower], np.flatnonzero(lower))
 
     def matrix(self, data: np.ndarray) -> sp.csc_matrix:
-        """The matrix with the pattern and the given nonzero values."""
+        """The matrix with the pattern and the given nonzero values.
+
+        Parameters
+        ----------
+        data : ndarray
+            Nonzero values of the matrix, in the pattern's CSC order. [N/m]
+        """
         return sp.csc_matrix((data, self.pattern.indices, self.pattern.indptr), shape=self.pattern.shape)
 
     def factorise(self, data: np.ndarray) -> Factor:
-        """Factorise the matrix with nonzero values ``data`` (in the pattern's CSC order)."""
+        """Factorise the matrix with nonzero values ``data`` (in the pattern's CSC order).
+
+        Parameters
+        ----------
+        data : ndarray
+            Nonzero values of the matrix, in the pattern's CSC order. [N/m]
+        """
         n = self.pattern.shape[0]
         band = np.zeros((self.bandwidth + 1, n))
         band[self._band_rows, self._band_cols] = data[self._lower]
@@ -75,7 +87,17 @@ class BandedSolver:
 
 @dataclass(frozen=True)
 class Factor:
-    """A factorised stiffness matrix: banded Cholesky, or SuperLU when not positive definite."""
+    """A factorised stiffness matrix: banded Cholesky, or SuperLU when not positive definite.
+
+    Attributes
+    ----------
+    solver : BandedSolver
+        The solver whose pattern and permutation were factorised.
+    cholesky : ndarray or None
+        Lower band of the Cholesky factor (None when SuperLU factorised). [√(N/m)]
+    lu : object or None
+        SuperLU factorisation (``scipy.sparse.linalg.splu``) when the matrix was not positive definite.
+    """
 
     solver: BandedSolver
     cholesky: np.ndarray | None = None

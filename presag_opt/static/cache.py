@@ -120,7 +120,15 @@ def load(key: str) -> dict[str, np.ndarray] | None:
 
 
 def store(key: str, arrays: dict[str, np.ndarray]) -> None:
-    """Write the arrays under ``key`` (atomically; a cache that cannot be written is skipped)."""
+    """Write the arrays under ``key`` (atomically; a cache that cannot be written is skipped).
+
+    Parameters
+    ----------
+    key : str
+        Cache key (hash of the inputs).
+    arrays : dict of str to ndarray
+        Arrays to store, by name; each carries its own unit. [-]
+    """
     if _active is None:
         return
     try:

@@ -227,7 +227,13 @@ class Discretisation:
         return f
 
     def cw_shape(self, stations: np.ndarray):
-        """Sparse matrix (len(stations) x n_cw_nodes) of linear shape functions at the stations."""
+        """Sparse matrix (len(stations) x n_cw_nodes) of linear shape functions at the stations.
+
+        Parameters
+        ----------
+        stations : ndarray
+            Stations along the contact wire, inside the section. [m]
+        """
         import scipy.sparse as sp
 
         s = np.asarray(stations, dtype=float)
@@ -251,6 +257,11 @@ class Discretisation:
         element with fixed ends by h·t(1 − t)/T (static condensation of the point inside the element).
         Linear shape functions miss this part, so it is added to the nodal (interpolated) uplift at
         the load point; without it the elasticity would dip between nodes.
+
+        Parameters
+        ----------
+        stations : ndarray
+            Stations along the contact wire. [m]
         """
         s = np.asarray(stations, dtype=float)
         right = np.clip(np.searchsorted(self.cw_station, s, side="right"), 1, len(self.cw_station) - 1)

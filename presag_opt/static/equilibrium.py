@@ -160,7 +160,13 @@ class EquilibriumState:
         return np.where(slack, 0.0, force)
 
     def horizontal_tension(self, group: int) -> np.ndarray:
-        """Along-track component of the force in each element of a wire (group). [N]"""
+        """Along-track component of the force in each element of a wire (group). [N]
+
+        Parameters
+        ----------
+        group : int
+            Wire (element group) index. [-]
+        """
         ax = self.discretisation.axial
         sel = ax.group == group
         d = self.positions[ax.node_b[sel]] - self.positions[ax.node_a[sel]]

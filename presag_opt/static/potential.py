@@ -247,7 +247,15 @@ class PotentialFunctions:
         return g
 
     def gradient(self, x: np.ndarray, params: PhysicalParameters) -> np.ndarray:
-        """∂Π/∂x at coordinates ``x`` (out-of-balance force, internal minus external). [N]"""
+        """∂Π/∂x at coordinates ``x`` (out-of-balance force, internal minus external). [N]
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_dofs,)
+            Nodal coordinates. [m]
+        params : PhysicalParameters
+            Physical parameters the functions are evaluated with.
+        """
         g = self._extra_gradient(x, params)
         _, grad, _ = self._element_terms(x, params)
         g += np.bincount(self._axial_dofs.ravel(), weights=grad, minlength=len(g))
@@ -257,7 +265,15 @@ class PotentialFunctions:
 
     def hessian_values(self, x: np.ndarray, params: PhysicalParameters) -> tuple[np.ndarray, np.ndarray]:
         """Nonzeros of the free-DOF tangent stiffness (CSC order of ``solver.pattern``) and the
-        free-DOF gradient at ``x``. [N/m], [N]"""
+        free-DOF gradient at ``x``. [N/m], [N]
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_dofs,)
+            Nodal coordinates. [m]
+        params : PhysicalParameters
+            Physical parameters the functions are evaluated with.
+        """
         disc = self.discretisation
         g = self._extra_gradient(x, params)
         _, grad, hess = self._element_terms(x, params)
@@ -286,12 +302,28 @@ class PotentialFunctions:
         return np.bincount(np.concatenate(slots["indices"]), weights=np.concatenate(weights), minlength=self._hessian_size)
 
     def hessian(self, x: np.ndarray, params: PhysicalParameters) -> tuple[sp.csc_matrix, np.ndarray]:
-        """Tangent stiffness (sparse) and gradient on the free degrees of freedom at ``x``. [N/m], [N]"""
+        """Tangent stiffness (sparse) and gradient on the free degrees of freedom at ``x``. [N/m], [N]
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_dofs,)
+            Nodal coordinates. [m]
+        params : PhysicalParameters
+            Physical parameters the functions are evaluated with.
+        """
         values, grad = self.hessian_values(x, params)
         return self.solver.matrix(values), grad
 
     def energy(self, x: np.ndarray, params: PhysicalParameters) -> float:
-        """Total potential energy. [J]"""
+        """Total potential energy. [J]
+
+        Parameters
+        ----------
+        x : ndarray, shape (n_dofs,)
+            Nodal coordinates. [m]
+        params : PhysicalParameters
+            Physical parameters the functions are evaluated with.
+        """
         disc = self.discretisation
         axial = self._call(self._axial_energy)(*self._axial_inputs(x, params))[0]
         total = -float(params.nodal_force @ x) + float(axial.sum())

@@ -126,7 +126,13 @@ class Droppers:
                 raise ModelError(f"droppers.positions = {list(self.positions)} m must be strictly increasing")
 
     def positions_in_span(self, span_length: float) -> np.ndarray:
-        """Dropper positions from the first mast of a span of the given length. [m]"""
+        """Dropper positions from the first mast of a span of the given length. [m]
+
+        Parameters
+        ----------
+        span_length : float
+            Length of the span. [m]
+        """
         if self.positions is not None:
             pos = np.asarray(self.positions)
             if pos[-1] >= span_length:
@@ -457,11 +463,23 @@ class Catenary:
         return heights[span] + (heights[span + 1] - heights[span]) * t
 
     def presag_of_span(self, span: int) -> float:
-        """Mid-span pre-sag of span ``span`` (from 0). [m]"""
+        """Mid-span pre-sag of span ``span`` (from 0). [m]
+
+        Parameters
+        ----------
+        span : int
+            Span, from 0. [-]
+        """
         return self.presag_rel * self.layout.span_lengths[span]
 
     def with_presag(self, presag_rel: float) -> Catenary:
-        """Copy with a parabolic pre-sag of relative depth ``presag_rel`` (any profile dropped). [-]"""
+        """Copy with a parabolic pre-sag of relative depth ``presag_rel`` (any profile dropped). [-]
+
+        Parameters
+        ----------
+        presag_rel : float
+            Relative pre-sag S_rel (mid-span depth over span length). [-]
+        """
         return dataclasses.replace(self, presag_rel=presag_rel, presag_profile=None)
 
     def with_presag_profile(self, depths) -> Catenary:

@@ -52,6 +52,17 @@ def dimension_of(unit: str) -> str | None:
 def to_si(value: float, unit: str, dimension: str, *, key: str) -> float:
     """Convert ``value`` given in ``unit`` to SI, checking that the unit has the right dimension.
 
+    Parameters
+    ----------
+    value : float
+        Value in ``unit``. [unit]
+    unit : str
+        Spelling of the unit (a key of ``UNITS[dimension]``).
+    dimension : str
+        Dimension of the quantity (e.g. ``"length"``).
+    key : str
+        Name of the input, for the message.
+
     Raises
     ------
     ModelError
@@ -120,7 +131,17 @@ def range_text(spec: dict[str, Any]) -> str:
 
 
 def check_value(name: str, value: float, spec: dict[str, Any]) -> None:
-    """Raise ModelError unless ``value`` (SI) is finite and inside the spec's range."""
+    """Raise ModelError unless ``value`` (SI) is finite and inside the spec's range.
+
+    Parameters
+    ----------
+    name : str
+        Name of the quantity, for the message.
+    value : float
+        Value in SI units (the unit of the spec's dimension). [SI]
+    spec : dict
+        The quantity's spec: display unit and factor, range and its open ends.
+    """
     shown = value / spec["factor"]
     unit = spec["display"]
     if not math.isfinite(value):

@@ -51,6 +51,13 @@ class Table2Row:
 def table2_row(section: SectionElasticity, mean_force: float = published.PAPER_TABLE2_FORCE) -> Table2Row:
     """Table 2 values of a section: S by both variants at ``mean_force`` (first analysed span).
 
+    Parameters
+    ----------
+    section : SectionElasticity
+        Elasticity study of the section.
+    mean_force : float
+        Mean contact force F_m. [N]
+
     References
     ----------
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, Table 2.

@@ -64,7 +64,13 @@ class SingleCurveError:
         return self.presag_single_curve / self.presag_interpolated - 1.0
 
     def error_at(self, mean_force: float) -> float:
-        """Relative error at one F_m (linear between grid points). [-]"""
+        """Relative error at one F_m (linear between grid points). [-]
+
+        Parameters
+        ----------
+        mean_force : float
+            Mean contact force F_m. [N]
+        """
         if not self.mean_forces[0] <= mean_force <= self.mean_forces[-1]:
             raise ModelError(
                 f"mean force = {mean_force:g} N is outside the studied range "
