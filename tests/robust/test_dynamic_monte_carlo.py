@@ -10,11 +10,11 @@ from presag_opt.robust.dynamic_monte_carlo import MEASURES, dynamic_monte_carlo
 from presag_opt.robust.installation import InstallationErrors
 from tests.robust.test_dynamic_search import CATENARY, GRID, PANTOGRAPH, SETTINGS, SPAN
 
-DESIGN = 0.012 / SPAN
+PRESAG_REL = 0.012 / SPAN
 
 
 def _run(errors, **kwargs):
-    return dynamic_monte_carlo(CATENARY, PANTOGRAPH, GRID, DESIGN, errors, settings=SETTINGS, **kwargs)
+    return dynamic_monte_carlo(CATENARY, PANTOGRAPH, GRID, PRESAG_REL, errors, settings=SETTINGS, **kwargs)
 
 
 def test_error_free_realisations_are_the_nominal_design_exactly():

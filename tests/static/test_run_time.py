@@ -20,7 +20,16 @@ def catenary():
     return load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
 
 
-def test_the_estimate_follows_the_fitted_law(catenary):
+@pytest.fixture
+def no_cache():
+    """No form-finding cache, whatever an earlier test in this worker process turned on."""
+    previous = cache.active_directory()
+    cache.use_cache(None)
+    yield
+    cache.use_cache(previous)
+
+
+def test_the_estimate_follows_the_fitted_law(catenary, no_cache):
     nodes, seconds = form_find_estimate(catenary, COARSE)
     assert nodes == discretise(catenary, COARSE).n_nodes
     a, b, n_ref, power = FORM_FIND_SECONDS
