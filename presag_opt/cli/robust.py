@@ -21,6 +21,7 @@ from presag_opt.cli.common import (
 )
 from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
 
 DEFAULT_MODEL = "st_9.8_ideal"
@@ -72,6 +73,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
             _add_check_options(p)
             _add_dynamic_options(p)
+            p.add_argument("--allow-supercritical", action="store_true",
+                           help="accept simulated speeds at or above β = 0.7 of the contact-wire wave speed "
+                           "(EN 50119's limit) in --check-speeds and --dynamic")
         else:
             tolerance_mc.add_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
@@ -181,6 +185,8 @@ def robust_command(args: argparse.Namespace) -> int:
             if speed >= wave_speed:
                 raise ModelError(f"--check-speeds {speed:g} km/h is outside the valid range (0, {wave_speed:.0f}) km/h "
                                  "(below the contact-wire wave speed)")
+            if not args.allow_supercritical:
+                check_speed_limit(speed * KMH, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
     study, plot = _study(args, catenary, shape=args.shape, risk=risk, buildability=build)
     _plot(args, study, plot)
     data = study.to_dict()
@@ -329,6 +335,8 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     within = parse_within(args.within)
     plot = output_path(args.plot) if args.plot else None
     catenary = load_catenary(args.model)
+    if not args.allow_supercritical:
+        check_speed_limit(band.speed_high, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
     names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
     if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
         if plot:

@@ -54,6 +54,12 @@ REFUSALS = {
     "report with a band reaching beta >= 0.7": (
         ["report", "--quick", "--max-speed", "300", "--out", "{tmp}/report"], 2,
         r"speed = 300 km/h is β = 0\.87 .*give --allow-supercritical to run it anyway"),
+    "robust --dynamic with a speed band reaching beta >= 0.7": (
+        ["robust", "--dynamic", "--speed", "50:250"], 2,
+        r"speed = 250 km/h is β = 0\.73 .*give --allow-supercritical to run it anyway"),
+    "robust --check-speeds at beta >= 0.7": (
+        ["robust", "--check-speeds", "90,260"], 2,
+        r"speed = 260 km/h is β = 0\.75 .*give --allow-supercritical to run it anyway"),
     "sweep whose grid reaches beta >= 0.7": (
         ["sweep", "{fast_study}", "--out", "{tmp}/fast.nc"], 2,
         r"speed = 260 km/h is β = 0\.75 .*give --allow-supercritical \(allow_supercritical=True\) to run it anyway"),
