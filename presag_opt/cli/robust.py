@@ -335,7 +335,8 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     within = parse_within(args.within)
     plot = output_path(args.plot) if args.plot else None
     catenary = load_catenary(args.model)
-    if not args.allow_supercritical:
+    if not args.allow_supercritical and band.speed_high < catenary.contact_wire.wave_speed:
+        # (a speed at or above the wave speed gets the study's own range error, whatever the option)
         check_speed_limit(band.speed_high, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
     names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
     if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
