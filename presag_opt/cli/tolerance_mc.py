@@ -186,10 +186,13 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
     band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
                          speed_high=v_high * KMH, aero_coefficient=d["aero"] / KMH**2)
     grid = OperatingGrid.from_band(band, static_points=int(d["grid_points"][0]), speed_points=int(d["grid_points"][1]))
+    catenary, pantograph = load_catenary(args.model), load_pantograph(d["pantograph"])
+    settings = SimulationSettings(numerics="auto")
+    _announce(args, catenary, pantograph, grid, band, settings, samples + 1, workers)
     with progress(args, total=samples) as report:
-        result = dynamic_monte_carlo(load_catenary(args.model), load_pantograph(d["pantograph"]), grid, presag_rel,
+        result = dynamic_monte_carlo(catenary, pantograph, grid, presag_rel,
                                      errors, samples=samples, seed=seed, workers=workers, chunk=2,
-                                     settings=SimulationSettings(numerics="auto"), progress=report)
+                                     settings=settings, progress=report)
     sig = result.percentiles["worst_sigma_over_fm"]
     data = {"kind": "dynamic", "measure": "worst σ/F_m over the grid", "unit": "-",
             "grid": {"static_forces_N": list(grid.static_forces), "speeds_kmh": [v / KMH for v in grid.speeds]},
@@ -203,6 +206,22 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
                                   **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles["largest_uplift"].items()}},
             "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers}
     return data, result.values("worst_sigma_over_fm")
+
+
+def _announce(args, catenary, pantograph, grid, band, settings, realisations: int, workers: int) -> None:
+    """Say what the dynamic Monte Carlo will cost before it starts: each realisation is one form-finding
+    (a re-solve, costed as one) and one batch over the grid, shared out over the workers."""
+    from presag_opt.cli.common import announce_work
+    from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
+    from presag_opt.dynamics.run_plan import plan_run
+
+    plans = [plan_run(catenary, pantograph, speed=v, static_force=f, aero_coefficient=band.aero_coefficient,
+                      settings=settings) for f in grid.static_forces for v in grid.speeds]
+    one = estimate_runs(catenary, plans, batch=True)
+    share = realisations / max(1, min(workers, realisations))
+    announce_work(args, WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
+                                     runs=realisations * one.runs, run_seconds=share * one.run_seconds,
+                                     memory=one.memory * min(workers, realisations)))
 
 
 def _print(data: dict) -> None:

@@ -137,7 +137,8 @@ def test_the_near_critical_warning_is_one_line_and_in_the_json(tmp_path):
 @pytest.mark.parametrize("args", [
     ["simulate", "--case", "case_study_st98", "--speed", "200", "--element-length", "0.1", "--time-step", "0.5"],
     ["sweep", "paper_grid_st98", "--out", "{tmp}/paper.nc", "--workers", "2"],
-], ids=["simulate", "sweep"])
+    ["tolerance", "--monte-carlo", "--dynamic", "--dropper-error", "5"],
+], ids=["simulate", "sweep", "tolerance-monte-carlo"])
 def test_long_work_is_announced_before_it_starts(args, tmp_path):
     """More than 2 minutes expected: one line with the time and the memory, then the work (stopped here
     with SIGTERM, which ends the command as Ctrl-C does)."""
