@@ -141,9 +141,14 @@ imported from their modules on first use. Names with a leading underscore are pr
 
 
 def _write_api_index() -> None:
-    """``api/index.rst``, listing the public modules found now (written only when it changes)."""
+    """``api/index.rst``, listing the public modules found now (written only when it changes); the
+    generated page of a module that no longer exists (moved or removed) is deleted, so that a checkout
+    that built the site before the move builds it again without a warning."""
     folder = DOCS / "api"
     folder.mkdir(exist_ok=True)
+    for page in (folder / "generated").glob("*.rst"):
+        if page.stem not in API_MODULES:
+            page.unlink()
     text = API_INDEX.format(modules="\n".join(f"   {m}" for m in API_MODULES))
     index = folder / "index.rst"
     if not index.exists() or index.read_text(encoding="utf-8") != text:
