@@ -20,7 +20,7 @@ from presag_opt.cli.common import print_json
 from presag_opt.studies.definition import load_study
 from presag_opt.studies.runner import run_study
 from presag_opt.studies.store import open_store
-from presag_opt.studies.validity import validity_analysis
+from presag_opt.studies.validity_analysis import validity_analysis
 
 REQUIRED_S = 600.0
 """Largest wall time allowed for the 400-run study. [s]"""

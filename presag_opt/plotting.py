@@ -253,7 +253,7 @@ def plot_dynamic_check(check: DynamicCheck, path: str | Path) -> Path:
     path : str or Path
         Output file.
     """
-    from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+    from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 
     fig, (top, bottom) = new_figure(2, 1, height=5.5, legend=True, sharex=True)
     for i, design in enumerate(dict.fromkeys(r.design for r in check.runs)):

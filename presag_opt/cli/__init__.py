@@ -13,7 +13,7 @@ import signal
 import sys
 from collections.abc import Sequence
 
-from presag_opt.cli import common, dynamics, line, presag, report, robust, sensitivity, static, studies, validation
+from presag_opt.cli import common, dynamics, line, recommend, report, robust, sensitivity, static, studies, validation
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -42,7 +42,7 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
-COMMAND_MODULES = [static, presag, robust, dynamics, studies, validation, report, line, sensitivity]
+COMMAND_MODULES = [static, recommend, robust, dynamics, studies, validation, report, line, sensitivity]
 
 
 def _terminated(signum: int, frame: object) -> None:

@@ -13,7 +13,7 @@ from presag_opt.cli.common import (
     print_warnings,
     progress,
 )
-from presag_opt.cli.presag import add_band_options, check_band_speed, operating_band
+from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

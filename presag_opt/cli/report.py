@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from presag_opt.cli.common import add_json_flag, model_help, output_folder, print_json, print_warnings, progress
-from presag_opt.cli.presag import add_band_options, check_band_speed, operating_band
+from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
 from presag_opt.cli.robust import parse_within
 from presag_opt.design.band import KMH
 from presag_opt.design.recommendation import CASE_STUDY_MODELS

@@ -91,7 +91,7 @@ def sweep_command(args: argparse.Namespace) -> int:
 def validity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag validity``."""
     from presag_opt.studies.store import open_store
-    from presag_opt.studies.validity import validity_analysis
+    from presag_opt.studies.validity_analysis import validity_analysis
 
     dataset = open_store(args.store)
     result = validity_analysis(dataset, _selection(args.select))

@@ -3,7 +3,7 @@
 Modules: :mod:`~presag_opt.design.empirical` (eq. 1–3), :mod:`~presag_opt.design.band` (operating
 band, eq. 4, force levels), :mod:`~presag_opt.design.quasi_static` (eq. 2 and 5 on one curve,
 interpolation between force levels), :mod:`~presag_opt.design.section` (ideal and mixed sections),
-:mod:`~presag_opt.design.validity` (speed ratio, steady-arm uplift) and
+:mod:`~presag_opt.design.speed_range` (speed ratio, steady-arm uplift) and
 :mod:`~presag_opt.design.recommendation` (the case study); :mod:`~presag_opt.design.layouts` (mixed
 against ideal spans, curved track) is used from its module. The names below are the public API.
 """
@@ -43,7 +43,7 @@ from presag_opt.design.section import (
     section_elasticity,
     tension_label,
 )
-from presag_opt.design.validity import (
+from presag_opt.design.speed_range import (
     QUASI_STATIC_BETA_LIMIT,
     STEADY_ARM_UPLIFT_LIMIT,
     SpeedContext,

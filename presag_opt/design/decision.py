@@ -41,7 +41,7 @@ import math
 from dataclasses import dataclass
 
 from presag_opt.contact_force import mean_contact_force
-from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ModelError
 
 DELTA_E_RULE = "quasi-static Δe rule"

@@ -4,7 +4,7 @@
 α_ae = 0.00097 N/(km/h)², ideal and mixed spans) and returns the F_m band, the S_rel range per layout,
 their mean as the recommendation, and the speed context. It combines the band
 (:mod:`~presag_opt.design.band`), the section elasticity (:mod:`~presag_opt.design.section`) and the
-validity checks (:mod:`~presag_opt.design.validity`); the paper's own recommendation and the
+validity checks (:mod:`~presag_opt.design.speed_range`); the paper's own recommendation and the
 comparison with it are in :mod:`presag_opt.validation`.
 
 References
@@ -47,7 +47,7 @@ from presag_opt.design.section import (
     section_elasticity,
     tension_label,
 )
-from presag_opt.design.validity import SpeedContext, StaticSteadyArmUplift, speed_context
+from presag_opt.design.speed_range import SpeedContext, StaticSteadyArmUplift, speed_context
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings

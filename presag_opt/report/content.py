@@ -26,7 +26,7 @@ from presag_opt.design.decision import (
     decide,
 )
 from presag_opt.design.recommendation import CASE_STUDY_MODELS, CASE_STUDY_SPAN_LENGTH, Recommendation, recommend
-from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
+from presag_opt.design.speed_range import QUASI_STATIC_BETA_LIMIT
 from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.errors import ModelError
 from presag_opt.robust.study import RobustStudy, robust_study
@@ -34,7 +34,8 @@ from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.definition import load_study
 from presag_opt.studies.reduced import reduced_study, run_in_process
 from presag_opt.studies.store import open_store
-from presag_opt.studies.validity import ValidityResult, validity_analysis
+from presag_opt.studies.validity_analysis import validity_analysis
+from presag_opt.studies.validity_results import ValidityResult
 from presag_opt.system.loader import ModelEntry, load_catenary, model_entries, resolve_model_path
 
 CASE_STUDY_PANTOGRAPH = "case_study_2mass_friction"

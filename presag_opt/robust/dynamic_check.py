@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import KMH
-from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT
+from presag_opt.design.speed_range import QUASI_STATIC_BETA_LIMIT
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError

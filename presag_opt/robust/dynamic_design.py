@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.band_evaluation import OBJECTIVES, BandEvaluator, BandStatistics
 from presag_opt.robust.operating_grid import OperatingGrid

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import KMH, OperatingBand
-from presag_opt.design.validity import QUASI_STATIC_BETA_LIMIT, speed_context
+from presag_opt.design.speed_range import QUASI_STATIC_BETA_LIMIT, speed_context
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError

@@ -44,7 +44,7 @@ from presag_opt.studies.store import (
     prepare_units,
     save_unit,
 )
-from presag_opt.studies.validity import validity_analysis
+from presag_opt.studies.validity_analysis import validity_analysis
 from presag_opt.studies.work import all_units, run_units, task_groups
 
 MOVE_THRESHOLD = 5.0

@@ -5,7 +5,8 @@ Modules: :mod:`~presag_opt.studies.definition` (study files and the validated de
 :mod:`~presag_opt.studies.work` (work units and the pure worker function),
 :mod:`~presag_opt.studies.store` (atomic unit files and the netCDF store),
 :mod:`~presag_opt.studies.runner` (local processes or Dask, progress, resume),
-:mod:`~presag_opt.studies.validity` (the paper's Fig. 6/7/8 criteria, β*, eq. 7 fit, uplift) and
+:mod:`~presag_opt.studies.validity_analysis` (the paper's Fig. 6/7/8 criteria, β*, eq. 7 fit, uplift) with its
+results in :mod:`~presag_opt.studies.validity_results`,
 :mod:`~presag_opt.studies.plots` (figures), :mod:`~presag_opt.studies.reduced` (a small grid on a
 short section, run in one process).
 """

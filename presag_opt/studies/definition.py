@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from presag_opt.contact_force import KMH
-from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
 from presag_opt.dynamics.run_plan import plan_run

@@ -15,7 +15,7 @@ import xarray as xr
 
 from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
-from presag_opt.studies.validity import ValidityResult
+from presag_opt.studies.validity_results import ValidityResult
 from presag_opt.style import legend_outside, new_figure, save_figure
 
 MM = 1e3

@@ -4,7 +4,7 @@ For a first look at a line (the HTML report, the notebooks' fast mode) the paper
 ten spans at 0.5 m and 2 ms is more than needed. :func:`reduced_study` cuts a study to a few pre-sags,
 speeds and static forces on the central spans of its section with coarser numerics, and
 :func:`run_in_process` runs it here, without worker processes or files, and returns the same dataset
-the store would hold, for :func:`presag_opt.studies.validity.validity_analysis`.
+the store would hold, for :func:`presag_opt.studies.validity_analysis.validity_analysis`.
 
 Coarse numerics change σ by several per cent against the paper's 0.5 m and 2 ms (the case study at
 90 km/h: 14.8 N at 1 m and 4 ms against 11.2 N, measured): a reduced study locates the validity limit

@@ -9,7 +9,7 @@ import pytest
 
 from presag_opt.sensitivity.analysis import sensitivity_analysis
 from presag_opt.sensitivity.dynamic import _moves, _rise
-from presag_opt.studies.validity import ForceOptimum, Minimum
+from presag_opt.studies.validity_results import ForceOptimum, Minimum
 
 TINY = Path(__file__).parents[1] / "cli" / "models" / "tiny_case.toml"
 

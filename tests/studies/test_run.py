@@ -125,7 +125,7 @@ def test_dask_local_cluster_gives_the_same_store(small_study, reference_store, t
 def test_paper_grid_runs_and_is_analysed(tmp_path):
     """The full 400-run study (tens of minutes with today's engine): every run finishes and the analysis
     gives its verdict at every speed of the grid."""
-    from presag_opt.studies.validity import validity_analysis
+    from presag_opt.studies.validity_analysis import validity_analysis
 
     store = tmp_path / "paper.nc"
     outcome = run_study(load_study("paper_grid_st98"), store, workers=2, progress=None)

@@ -19,7 +19,7 @@ import pytest
 
 from presag_opt.errors import ModelError
 from presag_opt.studies.store import write_store
-from presag_opt.studies.validity import NEAR_OPTIMAL_MARGIN, validity_analysis
+from presag_opt.studies.validity_analysis import NEAR_OPTIMAL_MARGIN, validity_analysis
 
 PRESAG = Path(sys.executable).parent / "presag"
 BETAS = [0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6]

@@ -1,8 +1,8 @@
 """Phenomenon check of the validity study: which assumed inputs does the σ/F_m minimum depend on?
 
-Run: python benchmarks/study_phenomenon.py [--out DIR] [--workers N] [--only NAME,...]
+Run: python studies/phenomenon.py [--out DIR] [--workers N] [--only NAME,...]
 
-For each study file ``benchmarks/studies/phenomenon_*.toml`` (one assumed input varied at a time at
+For each study file ``studies/phenomenon/phenomenon_*.toml`` (one assumed input varied at a time at
 50 km/h, β ≈ 0.145, on the paper's pre-sag and static-force grid) it runs the study (resumable, into
 ``DIR``) and prints, per value of the varied input and per pre-sag S:
 
@@ -27,9 +27,9 @@ import numpy as np
 from presag_opt.studies.definition import load_study
 from presag_opt.studies.runner import run_study
 from presag_opt.studies.store import open_store
-from presag_opt.studies.validity import validity_analysis
+from presag_opt.studies.validity_analysis import validity_analysis
 
-STUDIES = Path(__file__).parent / "studies"
+STUDIES = Path(__file__).parent / "phenomenon"
 
 
 def summarise(store: Path) -> None:

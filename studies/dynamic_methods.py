@@ -1,7 +1,7 @@
 """Where each pre-sag method holds (issue 10): the Δe rule, the quasi-static robust design and the
 dynamic robust design, compared by simulation on the case-study catenary.
 
-Run: python benchmarks/study_dynamic_methods.py [--workers N] [--parts case,beta,high] [--out FILE.json]
+Run: python studies/dynamic_methods.py [--workers N] [--parts case,beta,high] [--out FILE.json]
 
 ST 9,8/9,8 ideal spans, the case-study pantograph and analysis window (``case_study_st98``),
 F_stat 70–140 N, α_ae 0.00097 N/(km/h)², worst case of σ/F_m, uplift limit 83.5 mm, 4 × 3 points
@@ -27,7 +27,7 @@ import sys
 import time
 
 from presag_opt.design.band import KMH, OperatingBand
-from presag_opt.design.validity import STEADY_ARM_UPLIFT_LIMIT
+from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.dynamics.case import load_case
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust import BandEvaluator, DynamicObjective, OperatingGrid, dynamic_robust_study

@@ -1,4 +1,4 @@
-"""Speed context (presag_opt.design.validity): β = 0.26 at 90 km/h on ST 9,8/9,8 (section 5.2)."""
+"""Speed context (presag_opt.design.speed_range): β = 0.26 at 90 km/h on ST 9,8/9,8 (section 5.2)."""
 
 from __future__ import annotations
 
