@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from presag_opt.design.band import KMH
 from presag_opt.speed import doppler_factor, speed_ratio
-from presag_opt.system.catenary import Wire
+from presag_opt.system.components import Wire
 
 QUASI_STATIC_BETA_LIMIT = 0.4
 """Speed ratio β = v/c_CW up to which the quasi-static rule matches dynamic simulation. [-]"""

@@ -27,7 +27,8 @@ from presag_opt.dynamics.settings import Operation, SimulationSettings
 from presag_opt.dynamics.simulate import SimulationResult, simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.system.catenary import Catenary, Provenance
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import Provenance
 from presag_opt.system.loader import (
     load_catenary,
     load_model_file,
@@ -62,7 +63,7 @@ class SimulationCase:
     settings : SimulationSettings
         Defaults with the case's analysis window (analysed spans, lead-in, run-out, cut-off).
     provenance : dict
-        Dotted key -> :class:`~presag_opt.system.catenary.Provenance` of the case's own numbers.
+        Dotted key -> :class:`~presag_opt.system.components.Provenance` of the case's own numbers.
     """
 
     name: str

@@ -26,7 +26,7 @@ import numpy as np
 
 from presag_opt.dynamics import laws
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import Provenance
+from presag_opt.system.components import Provenance
 from presag_opt.system.loader import load_model_file, parse_section
 from presag_opt.system.quantity import quantity, validate_fields
 
@@ -121,7 +121,7 @@ class Pantograph:
     description : str
         Free text.
     provenance : dict
-        Dotted model-file key -> :class:`~presag_opt.system.catenary.Provenance`.
+        Dotted model-file key -> :class:`~presag_opt.system.components.Provenance`.
     """
 
     name: str

@@ -88,7 +88,7 @@ from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linearised import TensionOnlyStructure
-from presag_opt.system.catenary import Damping
+from presag_opt.system.components import Damping
 from presag_opt.system.quantity import quantity, validate_fields
 
 DEFAULT_DAMPING = Damping(ratio=0.02)

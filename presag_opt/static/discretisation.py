@@ -58,7 +58,8 @@ from presag_opt.static.section_geometry import (
     track_plan,
 )
 from presag_opt.static.stitch_elements import add_stitch_wires
-from presag_opt.system.catenary import GRAVITY, Catenary, Damping, Wire
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import GRAVITY, Damping, Wire
 from presag_opt.system.quantity import quantity, validate_fields
 
 __all__ = ["CONTACT_WIRE", "DROPPER", "GROUP_NAMES", "MESSENGER_WIRE", "PIN_STIFFNESS", "STEADY_ARM", "STITCH_WIRE",

@@ -28,7 +28,8 @@ from presag_opt.static.discretisation import (
 )
 from presag_opt.static.newton import NewtonTerms, newton_equilibrium, newton_solve
 from presag_opt.static.potential import PhysicalParameters, PotentialFunctions, build_potential
-from presag_opt.system.catenary import Catenary, Damping, Wire
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import Damping, Wire
 
 if TYPE_CHECKING:
     from presag_opt.static.linearised import TensionOnlyStructure

@@ -10,7 +10,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import Catenary, SpringSupport, SteadyArm, Wire
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import SpringSupport, SteadyArm, Wire
 from presag_opt.system.stitch import StitchWire
 
 # Axial element groups.

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import GRAVITY, Catenary
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import GRAVITY
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -39,7 +39,8 @@ from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.parameters import ParameterSweep, apply_parameter, parameter_spec
-from presag_opt.system.catenary import Catenary, Provenance
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.components import Provenance
 from presag_opt.system.loader import load_catenary, load_model_file, parse_quantity, parse_section, resolve_model_path
 from presag_opt.system.quantity import SI_UNIT, check_value, quantity, validate_fields
 
@@ -107,7 +108,7 @@ class StudyDefinition:
     uplift_limit : float
         Largest allowed steady-arm uplift. [m]
     provenance : dict
-        Dotted key -> :class:`~presag_opt.system.catenary.Provenance` of the study file's numbers.
+        Dotted key -> :class:`~presag_opt.system.components.Provenance` of the study file's numbers.
     """
 
     name: str

@@ -18,17 +18,8 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import (
-    Catenary,
-    Damping,
-    Droppers,
-    PinSupport,
-    Provenance,
-    SpanLayout,
-    SpringSupport,
-    SteadyArm,
-    Wire,
-)
+from presag_opt.system.catenary import Catenary, SpanLayout
+from presag_opt.system.components import Damping, Droppers, PinSupport, Provenance, SpringSupport, SteadyArm, Wire
 from presag_opt.system.quantity import SOURCES, check_value, range_text, to_si
 from presag_opt.system.stitch import StitchWire
 

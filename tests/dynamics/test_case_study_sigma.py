@@ -23,7 +23,7 @@ from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.static.form_finding import form_find
-from presag_opt.system.catenary import Damping
+from presag_opt.system.components import Damping
 
 SIGMA_TOL = 3e-3
 """Relative tolerance on σ (see the module docstring for where it comes from)."""

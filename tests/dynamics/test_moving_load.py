@@ -21,7 +21,7 @@ from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import lone_wire_state
-from presag_opt.system.catenary import Damping, Wire
+from presag_opt.system.components import Damping, Wire
 from presag_opt.validation.dynamic_model import moving_force_on_string
 from presag_opt.validation.dynamic_model import string_under_moving_force as series
 

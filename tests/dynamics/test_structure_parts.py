@@ -10,7 +10,7 @@ import scipy.sparse as sp
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.system.catenary import Damping
+from presag_opt.system.components import Damping
 
 
 def test_stiffness_proportional_damping_alone_has_no_mass_term(st98):

@@ -10,7 +10,7 @@ from presag_opt.native import casadi_elements as compiled
 from presag_opt.native import compiler as native
 from presag_opt.static.equilibrium import lone_wire_state
 from presag_opt.static.potential import build_potential
-from presag_opt.system.catenary import Wire
+from presag_opt.system.components import Wire
 
 
 def _terms(state, monkeypatch, compile_off: bool):

@@ -7,7 +7,7 @@ import numpy as np
 from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import lone_wire_state
-from presag_opt.system.catenary import Wire
+from presag_opt.system.components import Wire
 
 
 def string_elasticity(x, length, tension):

@@ -11,7 +11,8 @@ import pytest
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import StateMemo, lone_wire_state
 from presag_opt.static.form_finding import form_find
-from presag_opt.system.catenary import SpanLayout, Wire
+from presag_opt.system.catenary import SpanLayout
+from presag_opt.system.components import Wire
 from presag_opt.system.loader import load_catenary
 
 COARSE = StaticSettings(element_length=1.0)

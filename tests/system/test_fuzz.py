@@ -37,15 +37,8 @@ from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.dynamic_design import DynamicObjective, SearchSettings
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
-from presag_opt.system.catenary import (
-    Catenary,
-    Damping,
-    Droppers,
-    SpanLayout,
-    SpringSupport,
-    SteadyArm,
-    Wire,
-)
+from presag_opt.system.catenary import Catenary, SpanLayout
+from presag_opt.system.components import Damping, Droppers, SpringSupport, SteadyArm, Wire
 from presag_opt.system.loader import load_catenary
 
 EXAMPLES = 60

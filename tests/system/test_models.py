@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from presag_opt.errors import ModelError
-from presag_opt.system.catenary import SpringSupport, SteadyArm
+from presag_opt.system.components import SpringSupport, SteadyArm
 from presag_opt.system.loader import builtin_model_names, load_catenary, models_root
 from presag_opt.system.quantity import SOURCES
 
