@@ -26,7 +26,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 from presag_opt.errors import ModelError
 
@@ -127,6 +126,8 @@ def lowpass_filter(time: np.ndarray, force: np.ndarray, *, cutoff: float = CUTOF
             f"sampling rate {rate:g} Hz is too coarse for a {cutoff:g} Hz low-pass: use at least "
             f"{lowest:g} Hz (time step <= {1e3 / lowest:g} ms)"
         )
+    from scipy import signal  # imported here: it costs about a second, which every command would pay
+
     sos = signal.butter(FILTER_ORDER, cutoff, btype="low", fs=rate, output="sos")
     return signal.sosfiltfilt(sos, force)
 

@@ -26,7 +26,6 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
 from presag_opt.errors import ModelError
 from presag_opt.robust.installation import (
@@ -97,6 +96,8 @@ def percentile_summary(values: np.ndarray, levels=PERCENTILES, confidence: float
         raise ModelError("percentiles: the sample is empty or holds a non-finite value")
     if not 0.0 < confidence < 1.0:
         raise ModelError(f"confidence = {confidence:g} is outside the valid range (0, 1)")
+    from scipy import stats  # imported here: it costs about a second, which every command would pay
+
     alpha = 1.0 - confidence
     out = {}
     for level in levels:
