@@ -4,7 +4,7 @@ tree). Each refusal is one line ``presag: error: …`` naming the limit and the 
 work feasible, with its exit status; each announcement is one line before the work starts; each
 warning one line ``presag: warning: …`` (and in the JSON's ``warnings``). Never a traceback.
 
-The storage faults on a real tmpfs are in ``tests/studies/test_storage_faults.py``; the workers
+The storage faults on a real tmpfs are in ``tests/studies/test_store.py``; the workers
 after a SIGKILL in ``tests/test_processes.py``.
 """
 
