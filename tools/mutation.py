@@ -40,7 +40,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
         [
             "tests/static/test_analytic.py",
             "tests/static/test_form_finding.py",
-            "tests/static/test_elasticity.py",
+            "tests/elasticity/test_methods.py",
             "tests/static/test_cache.py",
             "tests/robust/test_path.py",  # target_height_sensitivity
             "tests/dynamics/test_structure.py",  # TensionOnlyStructure.displacement (static_response)

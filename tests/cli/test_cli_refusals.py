@@ -4,13 +4,12 @@ tree). Each refusal is one line ``presag: error: …`` naming the limit and the 
 work feasible, with its exit status; each announcement is one line before the work starts; each
 warning one line ``presag: warning: …`` (and in the JSON's ``warnings``). Never a traceback.
 
-The storage faults on a real tmpfs are in ``tests/studies/test_storage_faults.py``; the workers
+The storage faults on a real tmpfs are in ``tests/studies/test_store.py``; the workers
 after a SIGKILL in ``tests/test_processes.py``.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import re
@@ -22,8 +21,6 @@ import time
 from pathlib import Path
 
 import pytest
-
-from presag_opt.cli import common
 
 SCRIPT = Path(sys.executable).parent / "presag"
 MODELS = Path(__file__).resolve().parents[1] / "studies" / "models"
@@ -157,27 +154,6 @@ def test_long_work_is_announced_before_it_starts(args, tmp_path):
     assert seconds < 60
     assert process.returncode == 130 and err.strip().splitlines()[-1] == "presag: interrupted", err
     assert "Traceback" not in err
-
-
-def test_an_unexpected_error_is_one_line_without_a_traceback(capsys, monkeypatch):
-    def handler(args):
-        raise RuntimeError("index 7 is out of bounds\nsecond line")
-
-    monkeypatch.delenv("PRESAG_DEBUG", raising=False)
-    status = common.run(handler, argparse.Namespace(no_cache=True))
-    err = capsys.readouterr().err
-    assert status == common.EXIT_INTERNAL
-    assert err.startswith("presag: internal error: RuntimeError: index 7 is out of bounds in test_cli_refusals.py:")
-    assert len(err.strip().splitlines()) == 1 and "PRESAG_DEBUG=1 shows the traceback" in err
-
-
-def test_a_raw_os_error_is_one_line(capsys):
-    def handler(args):
-        raise PermissionError(13, "Permission denied", "/somewhere/file.png")
-
-    assert common.run(handler, argparse.Namespace(no_cache=True)) == common.EXIT_STORAGE
-    assert capsys.readouterr().err == ("presag: error: /somewhere/file.png: Permission denied "
-                                       "(check the permissions)\n")
 
 
 def test_an_accepted_supercritical_sweep_warns_once_even_from_its_workers(folder):

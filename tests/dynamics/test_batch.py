@@ -137,13 +137,6 @@ def test_bad_batches_are_refused_before_any_run(short_state, case, settings, poi
         simulate_many(short_state, case.pantograph, points, settings=settings)
 
 
-def test_bad_operating_points_name_value_unit_and_range():
-    with pytest.raises(ModelError, match=r"static_force = -5 N is outside the valid range \(0, 500\] N"):
-        OperatingPoint(speed=20.0, static_force=-5.0)
-    with pytest.raises(ModelError, match=r"speed = 0 km/h is outside the valid range"):
-        OperatingPoint(speed=0.0, static_force=100.0)
-
-
 def test_a_time_step_too_large_for_the_contact_is_refused(short_state, settings):
     stiff = load_pantograph("case_study_2mass_friction")
     coarse = settings.with_fixed_numerics(time_step=0.02)

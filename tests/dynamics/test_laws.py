@@ -4,12 +4,9 @@ kernel compiles them, equal to the plain-Python values to the last bit."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH, mean_contact_force
 from presag_opt.dynamics import batch_newton, laws
 from presag_opt.dynamics.integrator import IntegratorSettings
 
@@ -100,11 +97,3 @@ def test_the_compiled_laws_equal_the_plain_ones_to_the_last_bit(penetration):
     assert batch_newton.friction(25.0, penetration, 1e-3, 812.5) == laws.friction(25.0, penetration, 1e-3, 812.5)
     axial = laws.dropper_axial_force(100.0, 1e5, penetration, 0.3, 1e-4)
     assert batch_newton.dropper_axial_force(100.0, 1e5, penetration, 0.3, 1e-4) == axial
-
-
-def test_the_mean_contact_force():
-    """F_m = F_stat + α_ae v²: the case study's 0.00097 N/(km/h)² at 100 km/h adds 9.7 N."""
-    assert mean_contact_force(95.0, 100 * KMH, 0.00097 / KMH**2) == pytest.approx(104.7, rel=1e-12)
-    assert mean_contact_force(95.0, 0.0, 0.5) == 95.0
-    np.testing.assert_allclose(mean_contact_force(np.array([70.0, 120.0]), 50.0, 0.01), [95.0, 145.0], rtol=1e-15)
-    assert KMH == pytest.approx(1.0 / 3.6, rel=1e-15) and math.isclose(100 * KMH, 27.7777777777, rel_tol=1e-10)

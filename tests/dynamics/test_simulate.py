@@ -9,12 +9,9 @@ import numpy as np
 import pytest
 
 from presag_opt.dynamics.case import load_case
-from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import load_pantograph
-from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.simulate import simulate
-from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
@@ -113,7 +110,7 @@ def test_speed_ratio_above_0_7_warns_and_the_run_completes(three_spans):
     assert result.doppler_factor == pytest.approx((1 - result.speed_ratio) / (1 + result.speed_ratio), rel=1e-12)
 
 
-@pytest.mark.slow  # keeps the default run under 5 minutes; the shipped EN 50318 case is judged by test_cli_validation
+@pytest.mark.slow  # keeps the default run under 5 minutes; the shipped EN 50318 case is judged by tests/cli/test_validation.py
 def test_en50318_case_at_default_discretisation(en50318_runs):
     """The EN 50318-style reference case at 250 and 300 km/h, 0.5 m elements and 2 ms steps.
 
@@ -174,41 +171,3 @@ def test_sigma_converges_in_time_step_and_element_length(speed_kmh):
     }
     assert sigma["dt"] == pytest.approx(sigma["base"], rel=0.03)
     assert sigma["h"] == pytest.approx(sigma["base"], rel=0.03)
-
-
-@pytest.mark.parametrize(
-    ("changes", "message"),
-    [
-        ({"speed": 350 / 3.6}, r"speed = 350 km/h is outside the valid range \[0, 344.5\d*\) km/h"),
-        ({"static_force": 0.0}, r"static_force = 0 N is outside the valid range \(0, 500\] N"),
-        ({"static_force": -50.0}, r"static_force = -50 N is outside the valid range"),
-        ({"speed": -10.0}, r"speed = -36 km/h is outside the valid range \(0, 600\] km/h"),
-        ({"aero_coefficient": -1e-3}, r"aero_coefficient = -\d.*N/\(km/h\)\^2 is outside the valid range"),
-        ({"settings": SimulationSettings(integrator=IntegratorSettings(time_step=8e-3))},
-         r"time_step = 8 ms is too large for contact stiffness 50 kN/m .* at most 7.54 ms"),
-        ({"settings": SimulationSettings(lead_in_spans=5)}, r"the section has 10 spans: too few .* after 5 lead-in"),
-        ({"spacings": [400.0]}, r"the rear pantograph would start 280.0 m before the section"),
-        ({"settings": SimulationSettings(run_out=10.0)}, r"the leading pantograph would run off the section"),
-        ({"pantograph": [load_pantograph("en50318_2mass")] * 2}, r"2 pantograph model\(s\) given for 1 pantograph"),
-    ],
-)
-def test_bad_input_is_a_model_error_before_form_finding(changes, message):
-    """Every input error is found by plan_run, i.e. without form-finding the catenary."""
-    arguments = {
-        "pantograph": load_pantograph("case_study_2mass_friction"),
-        "speed": 25.0,
-        "static_force": 120.0,
-        "aero_coefficient": 0.0,
-        **changes,
-    }
-    with pytest.raises(ModelError, match=message):
-        plan_run(load_catenary("st_9.8_ideal"), **arguments)
-
-
-def test_simulation_settings_are_validated():
-    with pytest.raises(ModelError, match=r"analysed_spans = 0 - is outside the valid range \[1, 200\]"):
-        SimulationSettings(analysed_spans=0)
-    with pytest.raises(ModelError, match=r"lead_in_spans = 1.5 is not a whole number"):
-        SimulationSettings(lead_in_spans=1.5)
-    with pytest.raises(ModelError, match=r"droppers = 'some' is not one of 'analysed', 'all'"):
-        SimulationSettings(droppers="some")

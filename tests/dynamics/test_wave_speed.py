@@ -1,15 +1,12 @@
-"""Wave propagation on a lone tensioned string, and the speed-ratio helpers."""
+"""Wave propagation on a lone tensioned string (the speed-ratio helpers are tested in tests/test_speed.py)."""
 
 from __future__ import annotations
-
-import warnings
 
 import numpy as np
 import pytest
 
 from presag_opt.dynamics.integrator import IntegratorSettings, State, integrate
-from presag_opt.errors import ModelError
-from presag_opt.speed import doppler_factor, speed_ratio, wave_speed
+from presag_opt.speed import wave_speed
 from presag_opt.validation.dynamic_model import lumped_string
 
 TENSION = 20e3  # N, EN 50318-style contact wire
@@ -49,28 +46,3 @@ def test_pulse_travels_at_sqrt_tension_over_mass():
     ]
     measured = (positions[1] - positions[0]) / (times[1] - times[0])
     assert measured == pytest.approx(wave_speed(TENSION, MASS_PER_LENGTH), rel=0.02)
-
-
-def test_wave_speed_of_en50318_contact_wire():
-    """sqrt(20 000 / 1.35) = 121.716 m/s (to the printed digits)."""
-    assert wave_speed(TENSION, MASS_PER_LENGTH) == pytest.approx(121.716, abs=5e-4)
-
-
-def test_speed_at_wave_speed_is_an_error():
-    c = wave_speed(TENSION, MASS_PER_LENGTH)
-    with pytest.raises(ModelError, match="below the contact-wire wave speed"):
-        speed_ratio(c, c)
-
-
-def test_speed_ratio_above_0_7_warns_and_below_does_not():
-    c = 100.0
-    with pytest.warns(UserWarning, match="0.75"):
-        assert speed_ratio(75.0, c) == pytest.approx(0.75, rel=1e-12)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        assert speed_ratio(50.0, c) == pytest.approx(0.5, rel=1e-12)
-
-
-def test_doppler_factor_at_a_third_of_the_wave_speed_is_one_half():
-    """(c - c/3)/(c + c/3) = 1/2 exactly; round-off only."""
-    assert doppler_factor(40.0, 120.0) == pytest.approx(0.5, rel=1e-12)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.errors import ModelError
 from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
@@ -69,24 +68,3 @@ def test_the_profile_is_part_of_the_cache_key(three_spans):
     assert key != cache.state_key(three_spans.with_presag_profile(moved), COARSE)
     assert key == cache.state_key(three_spans.with_presag_profile(depths), COARSE)
     assert key != cache.state_key(three_spans, COARSE)
-
-
-def test_with_presag_drops_a_profile(three_spans):
-    profiled = three_spans.with_presag_profile(_lopsided(three_spans))
-    assert profiled.with_presag(0.5e-3).presag_profile is None
-
-
-@pytest.mark.parametrize("change,words", [
-    (lambda d: d[:2], "presag_profile has 2 spans but the layout has 3"),
-    (lambda d: [d[0], d[1][:-1], d[2]], "presag_profile[1] has 6 depths but span 1 has 7 droppers"),
-    (lambda d: [d[0], d[1], (*d[2][:3], 0.31, *d[2][4:])],
-     "presag_profile[2][3] = 310 mm is outside the valid range [0, 300] mm"),
-    (lambda d: [d[0], (-0.001, *d[1][1:]), d[2]], "presag_profile[1][0] = -1 mm is outside the valid range"),
-    (lambda d: [d[0], d[1], (float("nan"), *d[2][1:])], "presag_profile[2][0] = nan mm is outside the valid range"),
-])
-def test_a_malformed_profile_is_refused_with_one_line(three_spans, change, words):
-    depths = _lopsided(three_spans)
-    with pytest.raises(ModelError) as error:
-        three_spans.with_presag_profile(change(depths))
-    assert words in str(error.value)
-    assert "\n" not in str(error.value)

@@ -108,13 +108,6 @@ def test_units_of_another_definition_are_refused(small_study_path, tmp_path):
     assert sorted(p.name for p in units.iterdir()) == ["study.json"]
 
 
-def test_validity_of_a_missing_store_is_one_line(tmp_path):
-    proc = subprocess.run([str(PRESAG), "validity", str(tmp_path / "none.nc"), "--json"], capture_output=True,
-                          text=True, timeout=120)
-    assert proc.returncode == 2 and proc.stdout == ""
-    assert proc.stderr.count("\n") == 1 and "no such study store" in proc.stderr
-
-
 def _study(tmp_path: Path, changes: dict[str, str] | None = None, extra: str = "") -> Path:
     """The small test study with text replacements and extra sections, written to tmp_path."""
     text = (MODELS / "small_grid.toml").read_text()

@@ -8,7 +8,6 @@ import pytest
 
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary, model_entries
-from presag_opt.system.quantity import DEFAULT_RANGE_SHARE, default_range
 
 MODEL = textwrap.dedent(
     """
@@ -107,19 +106,6 @@ def test_model_entries_report_the_range_as_written(tmp_path):
     assert entries["contact_wire.mass_per_length"].range_note == "EN 50149"
 
 
-SPEC = {"dimension": "length", "display": "m", "factor": 1.0, "low": 0.0, "high": 1.0,
-        "low_open": False, "high_open": False, "allow_none": False}
-
-
-def test_default_range_is_plus_minus_twenty_percent_inside_the_valid_range():
-    assert DEFAULT_RANGE_SHARE == 0.2
-    assert default_range(0.5, SPEC) == pytest.approx((0.4, 0.6), rel=1e-15)
-    # cut at the valid range's closed end
-    assert default_range(0.9, SPEC) == pytest.approx((0.72, 1.0), rel=1e-15)
-    # an open end is not reached: halfway between the value and the end
-    assert default_range(0.9, {**SPEC, "high_open": True}) == pytest.approx((0.72, 0.95), rel=1e-15)
-    # a value of zero has no relative range
-    assert default_range(0.0, SPEC) is None
 
 
 def test_every_shipped_range_holds_its_value():

@@ -31,7 +31,7 @@ def test_single_curve_error_against_direct_newton_curves(ideal98, ideal98_70mm):
 
     Measured: Newton gives 23.0 % (30 mm) and 13.6 % (70 mm) against the study's 20.5 % and 8.5 %;
     the paper reads 16 % and 2 %. The gap is the active-set method's Δe error near 179 N (it grows to
-    5.9 % at 200 N, tests/static/test_elasticity.py) times the 1/(1 − error) leverage of a ratio, so
+    5.9 % at 200 N, tests/elasticity/test_methods.py) times the 1/(1 − error) leverage of a ratio, so
     the tolerance is 0.06 (absolute), just above the larger measured gap; the paper's finding (the
     70 mm geometry is the better one for a single curve) holds in both.
     """

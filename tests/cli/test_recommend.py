@@ -8,8 +8,6 @@ import sys
 
 import pytest
 
-from presag_opt.cli.common import Progress, progress
-
 
 def presag(*args, timeout=120):
     """Run ``python -m presag_opt.cli ARGS``; return the completed process (text output)."""
@@ -97,23 +95,3 @@ def test_recommend_compare_paper(tmp_path):
     for item in ("Table 2 7.1/7.1 S delta-e", "S_rel mixed high (delta-e)", "Fig. 5b error at 179 N, 70 mm geometry"):
         assert item in rows
     assert fig5b.stat().st_size > 10_000
-
-
-def test_progress_shows_only_after_its_delay_and_on_a_terminal(capsys, monkeypatch):
-    import argparse
-
-    with Progress(True, delay=3600.0) as later:
-        later("form-finding")
-    assert capsys.readouterr().err == ""
-    with Progress(True, delay=0.0) as shown:
-        shown("form-finding")
-    assert "form-finding" in capsys.readouterr().err
-    options = argparse.Namespace(quiet=False, progress=False)
-    monkeypatch.setattr(sys.stderr, "isatty", lambda: False)
-    with progress(options) as piped:
-        piped("form-finding")
-    assert capsys.readouterr().err == ""
-    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
-    with progress(argparse.Namespace(quiet=True, progress=False)) as quiet:
-        quiet("form-finding")
-    assert capsys.readouterr().err == ""

@@ -1,19 +1,17 @@
-"""``presag report``: the content of the case-study report, the page in a real headless Chromium (no
-console errors, every figure loaded), and bad input refused before any work. One file, so that the
-report is written once per test run (pytest-xdist hands out whole files)."""
+"""The design report (``presag_opt.report.content``, written by ``presag_opt.report.html``): the content of
+the case-study report and the page in a real headless Chromium (no console errors, every figure
+loaded). One file, so that the report is written once per test run (pytest-xdist hands out whole
+files); the HTML pieces alone are tested in ``test_html.py``, the command's refusals in
+``tests/cli/test_report.py``."""
 
 from __future__ import annotations
 
 import base64
 import json
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
-from presag_opt.cli.common import output_folder
 from presag_opt.errors import ModelError
 from presag_opt.report.content import design_report
 from presag_opt.system.loader import model_entries
@@ -94,27 +92,9 @@ def test_report_lists_every_input_with_provenance_and_every_assumed_value(case_s
     assert "tolerance band loss" in assumed and "reduced validity sweep" in assumed
 
 
-@pytest.mark.parametrize(("name", "words"), [("file.txt", "--out file.txt: is a file"),
-                                             ("missing/report", "the folder missing does not exist")])
-def test_output_folder_is_checked_before_any_work(tmp_path, monkeypatch, name, words):
-    monkeypatch.chdir(tmp_path)
-    (tmp_path / "file.txt").write_text("x")
-    with pytest.raises(ModelError, match=words):
-        output_folder(name)
-    assert output_folder("new") == Path("new") and (tmp_path / "new").is_dir()
-
-
 def test_a_missing_study_store_is_refused_before_any_work(tmp_path):
     with pytest.raises(ModelError, match="no such study store"):
         design_report(study=tmp_path / "nothere.nc")
-
-
-def test_bad_input_on_the_command_line_is_one_line(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", "no_such_model", "--out", "r"],
-                            capture_output=True, text=True, cwd=tmp_path, timeout=120)
-    assert result.returncode == 2 and "Traceback" not in result.stderr
-    (line,) = result.stderr.strip().splitlines()
-    assert line.startswith("presag: error: ") and "neither a file nor a built-in catenary model" in line
 
 
 def test_a_stored_study_of_another_contact_wire_is_flagged():

@@ -1,4 +1,4 @@
-"""Elasticity: two independent methods agree, the discretisation converges, and the physics is sane."""
+"""``presag_opt.elasticity.methods``: two independent methods agree, the discretisation converges, and the physics is sane."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from presag_opt.elasticity import elasticity_study, linear_elasticity, nonlinear_elasticity
+from presag_opt.elasticity import linear_elasticity, nonlinear_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
@@ -101,16 +101,6 @@ def test_halving_the_element_length_changes_e_mid_and_delta_e_by_less_than_1_per
     coarse_curve, fine_curve = linear_elasticity(st98), linear_elasticity(fine)
     assert fine_curve.e_mid == pytest.approx(coarse_curve.e_mid, rel=0.01)
     assert fine_curve.delta_e == pytest.approx(coarse_curve.delta_e, rel=0.01)
-
-
-def test_study_to_dict_has_the_documented_keys(st98):
-    study = elasticity_study(st98, forces=(100.0,), step=2.0, linear=True)
-    data = study.to_dict()
-    assert set(data) >= {"x_m", "curves"}
-    assert [c["force_N"] for c in data["curves"]] == [100.0, None]
-    for c in data["curves"]:
-        assert set(c) >= {"force_N", "elasticity_mm_per_N", "e_mid_mm_per_N", "e_mast_mm_per_N",
-                          "e_max_mm_per_N", "e_min_mm_per_N"}
 
 
 @pytest.mark.parametrize("kwargs,words", [

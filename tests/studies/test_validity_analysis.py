@@ -1,4 +1,4 @@
-"""Validity analysis on synthetic datasets whose answer is known by construction.
+"""``presag_opt.studies.validity_analysis`` on synthetic datasets whose answer is known by construction.
 
 σ is built as a parabola in S around a known optimum S_opt = S_rule + k·β^a, so that the near-optimal
 band (σ within 5 % of its minimum) has a known half-width w and the Δe rule leaves it where
