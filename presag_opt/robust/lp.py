@@ -27,8 +27,8 @@ R. T. Rockafellar, S. Uryasev, "Optimization of conditional value-at-risk", Jour
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import cvxpy as cp
 import numpy as np
 
 from presag_opt.errors import ConvergenceError, ModelError
@@ -36,6 +36,9 @@ from presag_opt.robust.buildability import Buildability, _span_kinks
 from presag_opt.robust.path import PathModel
 from presag_opt.robust.rounding import _round_to_step
 from presag_opt.robust.scenarios import ForceScenarios, Risk
+
+if TYPE_CHECKING:
+    import cvxpy as cp
 
 SHAPES = ("parabola", "per-dropper")
 
@@ -98,6 +101,8 @@ class RobustDesign:
 
 def _risk_objective(loss: cp.Expression, weights: cp.Parameter, risk: Risk) -> tuple[cp.Expression, list]:
     """Objective and extra constraints of a risk measure over scenario losses ``loss`` (K,)."""
+    import cvxpy as cp  # on first use: importing it takes about a second
+
     if risk.measure == "minimax":
         return cp.max(loss), []
     if risk.measure == "mean":
@@ -143,6 +148,8 @@ def _peak_to_peak(path: PathModel, z: cp.Expression, uplift: cp.Parameter) -> tu
     constraints : list
         Every path height of a span between its ``bottom`` and ``top`` variables.
     """
+    import cvxpy as cp  # on first use: importing it takes about a second
+
     n_scenarios = uplift.shape[0]
     heights = np.ones((n_scenarios, 1)) @ cp.reshape(z, (1, z.shape[0]), order="C") + uplift
     incidence = np.column_stack([(path.node_span == s).astype(float) for s in path.spans])
@@ -153,6 +160,8 @@ def _peak_to_peak(path: PathModel, z: cp.Expression, uplift: cp.Parameter) -> tu
 
 def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: Buildability | None):
     """The LP, built once per (shape, risk, scenario count, buildability) and cached on the path."""
+    import cvxpy as cp  # on first use: importing it takes about a second
+
     key = (shape, risk.label, n_scenarios, build)
     if key in path._problems:
         return path._problems[key]
@@ -197,6 +206,8 @@ def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: B
 
 
 def _solve(problem: cp.Problem) -> str:
+    import cvxpy as cp  # on first use: importing it takes about a second
+
     try:
         problem.solve(solver=cp.CLARABEL)
     except cp.error.SolverError as exc:

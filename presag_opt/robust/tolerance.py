@@ -8,7 +8,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cvxpy as cp
 import numpy as np
 
 from presag_opt.errors import ModelError
@@ -61,6 +60,8 @@ def tolerance_band(
     within : float
         Allowed relative loss, e.g. 0.10 for 10 %. [-]
     """
+    import cvxpy as cp  # on first use: importing it takes about a second
+
     if not 0.0 < within <= 2.0:
         raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
     best = robust_presag(path, scenarios, shape="parabola", risk=Risk())
