@@ -424,13 +424,11 @@ def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float
     seconds : float
         Estimated run time of the form-finding. [s]
     """
+    from presag_opt.dynamics.cost import duration
+
     if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
-        print(f"presag: form-finding {n_nodes} nodes takes about {_duration(seconds)} on a typical machine "
+        print(f"presag: form-finding {n_nodes} nodes takes about {duration(seconds)} on a typical machine "
               "(Ctrl-C stops it)", file=sys.stderr, flush=True)
-
-
-def _duration(seconds: float) -> str:
-    return f"{seconds:.0f} s" if seconds < 90 else f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
 
 
 def model_help(kind: str, default: str | None = None) -> str:

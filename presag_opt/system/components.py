@@ -139,10 +139,10 @@ class Droppers:
                 )
             return pos
         inner = span_length - 2.0 * self.end_distance
-        if inner < 0.0:
+        if inner <= 1e-9:  # at exactly twice the end distance both end droppers would hang at one point
             raise ModelError(
                 f"droppers.end_distance = {self.end_distance:g} m does not fit a span of {span_length:g} m "
-                f"(needs span length >= {2 * self.end_distance:g} m)"
+                f"(needs span length > {2 * self.end_distance:g} m)"
             )
         intervals = max(1, math.ceil(inner / self.max_spacing - 1e-9))
         return self.end_distance + np.linspace(0.0, inner, intervals + 1)

@@ -54,7 +54,14 @@ def test_bad_droppers_are_one_line(kwargs, message):
 def test_end_droppers_that_do_not_fit_the_span_are_refused():
     with pytest.raises(ModelError) as caught:
         Droppers(axial_stiffness=0.2e6, end_distance=6.0).positions_in_span(10.0)
-    assert str(caught.value) == ("droppers.end_distance = 6 m does not fit a span of 10 m (needs span length >= 12 m)")
+    assert str(caught.value) == ("droppers.end_distance = 6 m does not fit a span of 10 m (needs span length > 12 m)")
+
+
+def test_a_span_of_exactly_twice_the_end_distance_is_refused_not_given_two_droppers_at_one_point():
+    with pytest.raises(ModelError) as caught:
+        Droppers(axial_stiffness=0.2e6, end_distance=4.5).positions_in_span(9.0)
+    assert str(caught.value) == ("droppers.end_distance = 4.5 m does not fit a span of 9 m (needs span length > 9 m)")
+    assert np.allclose(Droppers(axial_stiffness=0.2e6, end_distance=4.5).positions_in_span(9.5), [4.5, 5.0])
 
 
 @pytest.mark.parametrize(("kwargs", "ok"), [({"ratio": 0.02}, True), ({"rayleigh_alpha": 0.1, "rayleigh_beta": 1e-4}, True),
