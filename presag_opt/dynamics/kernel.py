@@ -32,12 +32,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_newton import (
-    STATUS_OK,
-    STATUS_RUNNING,
-    newton_step,
-    nonlinear_forces,
-)
+from presag_opt.dynamics.batch_forces import nonlinear_forces
+from presag_opt.dynamics.batch_newton import newton_step
+from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
 from presag_opt.native import sweeps as native
 from presag_opt.native.banded_numba import backward_substitution
 from presag_opt.native.jit import kernel_function
