@@ -29,8 +29,28 @@ def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scrat
 
     Parameters
     ----------
-    b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop
-        As for :func:`update_iterate`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 if none). [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors.
+    drop : DropperStep
+        Run ``b``'s droppers at the predictor.
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
@@ -79,8 +99,20 @@ def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
 
     Parameters
     ----------
-    b, step, n_phi, scalars, shared, runs, scratch
-        As for :func:`update_iterate`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 if none). [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     """
     s = scalars.scheme.s
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
@@ -169,8 +201,22 @@ def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan)
 
     Parameters
     ----------
-    b, count, scalars, shared, state, work, scratch, pan
-        As for :func:`finish_step`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    count : int
+        Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors.
     """
     s = scalars.scheme.s
     rhs, delta, delta_lin = state.r, work.delta, pan.delta_lin
@@ -192,8 +238,18 @@ def hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan):
 
     Parameters
     ----------
-    b, n_phi, shared, work, scratch, pan
-        As for :func:`finish_step`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    n_phi : int
+        Entries of φ from the last correction (0 if none). [-]
+    shared : Shared
+        What the runs of the batch share.
+    work : Work
+        Per-step work arrays of the batch.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors.
     s : float
         1 + α of the HHT-α scheme. [-]
     """
@@ -220,8 +276,18 @@ def update_pantographs(b, taken, scalars, shared, state, pan):
 
     Parameters
     ----------
-    b, taken, scalars, shared, state, pan
-        As for :func:`finish_step`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    taken : int
+        Newton corrections taken in this step. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    pan : PantographStep
+        Run ``b``'s pantograph predictors.
     """
     c = scalars.scheme
     pantograph_mass, pantograph_r = shared.pantograph_mass, state.pantograph_r
@@ -245,8 +311,22 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
 
     Parameters
     ----------
-    b, step, count, slack, shared, state, out, scratch
-        As for :func:`finish_step`.
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    count : int
+        Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
+    slack : int
+        Recorded droppers slack at the iterate. [-]
+    shared : Shared
+        What the runs of the batch share.
+    state : RunState
+        The runs' state.
+    out : Records
+        The records being written.
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
     s : float
         1 + α of the HHT-α scheme. [-]
     """

@@ -1,7 +1,8 @@
 """Compiled time stepping of many runs on one catenary (numba), the batch index innermost.
 
 The sweeps over all DOFs live here; each run's Newton iteration on its nonlinear DOFs is
-:mod:`presag_opt.dynamics.batch_newton`'s.
+:mod:`presag_opt.dynamics.batch_newton`'s (its parts: ``batch_predictor``, ``batch_forces``,
+``batch_woodbury``, ``batch_update``).
 
 This module holds the arithmetic of :func:`presag_opt.dynamics.batch.simulate_many`: banded
 products and solves on arrays of shape (n_dofs, n_runs), and the HHT-α step of every run. Setting up

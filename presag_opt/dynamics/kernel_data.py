@@ -1,7 +1,7 @@
 """The arrays of the batch kernel, by name: what its compiled functions read and write.
 
-The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton`)
-takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
+The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton` and
+its parts) takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
 ``shared.head_dof``, at no cost). :func:`~presag_opt.dynamics.batch_system.integrate_batch` fills
 them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch. A run's
 status in :class:`Records` is one of :data:`STATUS_RUNNING`, :data:`STATUS_OK`,

@@ -42,7 +42,7 @@ def woodbury_update(
     influence : ndarray, shape (n, k)
         Z = A⁻¹ U (or the same map of it), one column per entry of the update. [unit of w per unit of y]
     capacitance : ndarray, shape (k, k)
-        The small system's matrix. [-, or as formed by the caller]
+        The small system's matrix. [unit of rhs per unit of y]
     rhs : ndarray, shape (k,)
         Its right-hand side. [unit of y times that of the capacitance]
     singular : str
