@@ -26,6 +26,10 @@ Batch engine (compiled)
     :mod:`~presag_opt.dynamics.batch_system` — the shared arrays of a batch and its integration;
     :mod:`~presag_opt.dynamics.kernel_data` — the kernel's arrays as named tuples;
     :mod:`~presag_opt.dynamics.kernel` — the sweeps over all DOFs and the one driver loop;
-    :mod:`~presag_opt.dynamics.batch_newton` — each run's Newton iteration on its nonlinear DOFs;
+    :mod:`~presag_opt.dynamics.batch_newton` — each run's Newton iteration on its nonlinear DOFs, from
+    its parts: :mod:`~presag_opt.dynamics.batch_predictor` (the step's start),
+    :mod:`~presag_opt.dynamics.batch_forces` (contact, friction and dropper force sets),
+    :mod:`~presag_opt.dynamics.batch_woodbury` (the Woodbury correction) and
+    :mod:`~presag_opt.dynamics.batch_update` (the iterate and the step's end);
     :mod:`~presag_opt.native.sweeps` (with ``native/sweeps.c``) — the same sweeps in compiled C.
 """

@@ -1,7 +1,8 @@
 """Compiled time stepping of many runs on one catenary (numba), the batch index innermost.
 
 The sweeps over all DOFs live here; each run's Newton iteration on its nonlinear DOFs is
-:mod:`presag_opt.dynamics.batch_newton`'s.
+:mod:`presag_opt.dynamics.batch_newton`'s (its parts: ``batch_predictor``, ``batch_forces``,
+``batch_woodbury``, ``batch_update``).
 
 This module holds the arithmetic of :func:`presag_opt.dynamics.batch.simulate_many`: banded
 products and solves on arrays of shape (n_dofs, n_runs), and the HHT-α step of every run. Setting up
@@ -32,12 +33,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_newton import (
-    STATUS_OK,
-    STATUS_RUNNING,
-    newton_step,
-    nonlinear_forces,
-)
+from presag_opt.dynamics.batch_forces import nonlinear_forces
+from presag_opt.dynamics.batch_newton import newton_step
+from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
 from presag_opt.native import sweeps as native
 from presag_opt.native.banded_numba import backward_substitution
 from presag_opt.native.jit import kernel_function

@@ -1,9 +1,11 @@
 """The arrays of the batch kernel, by name: what its compiled functions read and write.
 
-The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton`)
-takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
+The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton` and
+its parts) takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
 ``shared.head_dof``, at no cost). :func:`~presag_opt.dynamics.batch_system.integrate_batch` fills
-them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch.
+them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch. A run's
+status in :class:`Records` is one of :data:`STATUS_RUNNING`, :data:`STATUS_OK`,
+:data:`STATUS_NOT_CONVERGED` and :data:`STATUS_NOT_FINITE`.
 
 Extended DOF numbering: the catenary's DOFs in banded (reverse Cuthill–McKee) order, 0 … n − 1, then
 the pantographs' DOFs, n … n + n_p − 1. Arrays with a run dimension are indexed [DOF, run] for the
@@ -18,6 +20,15 @@ from typing import NamedTuple
 import numpy as np
 
 from presag_opt.dynamics.laws import SchemeConstants
+
+STATUS_RUNNING = -1
+"""``Records.status`` of a run still going. [-]"""
+STATUS_OK = 0
+"""``Records.status`` of a run that reached its last step. [-]"""
+STATUS_NOT_CONVERGED = 1
+"""``Records.status`` of a run whose Newton iteration did not converge in the corrections allowed. [-]"""
+STATUS_NOT_FINITE = 2
+"""``Records.status`` of a run whose residual became infinite or NaN. [-]"""
 
 
 class Scalars(NamedTuple):

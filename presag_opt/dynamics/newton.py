@@ -5,7 +5,8 @@
 (:func:`~presag_opt.dynamics.laws.scheme_constants`); :class:`StepTerms` what one step keeps fixed
 (predictors, right-hand side). The two solvers of the Newton equation (K_eff + s E T Eᵀ) δ = −R:
 :class:`FactorisedSolver` factorises K_eff once and adds the tangent by Woodbury's identity from
-cached columns of K_eff⁻¹ (the integrator's ``"fast"`` method), :class:`ReferenceSolver` assembles
+cached columns of K_eff⁻¹ (the integrator's ``"fast"`` method; the identity's last step is
+:func:`~presag_opt.static.woodbury.woodbury_update`, shared with the statics' tension-only droppers), :class:`ReferenceSolver` assembles
 and factorises the full matrix every iteration (``"reference"``).
 
 References
@@ -27,6 +28,7 @@ from scipy.sparse.linalg import splu
 from presag_opt.dynamics.laws import SchemeConstants
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.banded_solver import BandedSolver
+from presag_opt.static.woodbury import woodbury_update
 
 COLUMN_CACHE_SIZE = 256
 """Columns of K_eff⁻¹ kept by the fast path: enough for the pantograph DOFs and the wire nodes a
@@ -260,12 +262,8 @@ class FactorisedSolver:
             return x
         z = self._inverse_columns(dofs)
         t = self._system.c.s * tangent
-        capacitance = np.eye(len(dofs)) + t @ z[dofs, :]
-        try:
-            y = np.linalg.solve(capacitance, t @ x[dofs])
-        except np.linalg.LinAlgError:
-            raise ConvergenceError("singular Newton matrix: the nonlinear tangent cancels K_eff") from None
-        return x - z @ y
+        return woodbury_update(x, z, np.eye(len(dofs)) + t @ z[dofs, :], t @ x[dofs],
+                               singular="singular Newton matrix: the nonlinear tangent cancels K_eff")[0]
 
     def next_residual(
         self,

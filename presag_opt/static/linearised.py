@@ -3,7 +3,8 @@
 :class:`TensionOnlyStructure` solves (K − G_S D_S G_Sᵀ) q = p + G_S f0_S for the displacements q under
 extra loads p, with S the set of slack droppers: the tangent stiffness K at the equilibrium, G the
 droppers' length gradients, D their stiffnesses and f0 their preloads. One factorisation of K and
-W = K⁻¹ G serve every load through the Woodbury identity; S is found by the active-set iteration (a
+W = K⁻¹ G serve every load through the Woodbury identity
+(:func:`~presag_opt.static.woodbury.woodbury_update`, shared with the dynamics' Newton correction); S is found by the active-set iteration (a
 dropper whose force would drop below zero is removed, a removed one that would stretch again comes
 back). Geometric nonlinearity is left out; the full nonlinear equilibrium is
 :meth:`~presag_opt.static.equilibrium.EquilibriumState.solve`.
@@ -22,6 +23,7 @@ import numpy as np
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.woodbury import woodbury_update
 
 
 def dropper_axial_force(preload, stiffness, stretch, rate, rayleigh_beta):
@@ -155,8 +157,11 @@ class TensionOnlyStructure:
             # q0 = K^-1 (p + G_S f0_S); y = G_S^T q0
             stretch0 = load_stretch + gram[:, s] @ f0[s]
             if len(s):
-                z = np.linalg.solve(np.diag(1.0 / k[s]) - gram[np.ix_(s, s)], stretch0[s])
-                stretch = stretch0 + gram[:, s] @ z
+                # Woodbury with C = −D_S: y = (G_SᵀK⁻¹G_S − D_S⁻¹)⁻¹ G_Sᵀ q0 = −z, stretch0 − Gᵀ W_S y
+                stretch, y = woodbury_update(stretch0, gram[:, s], gram[np.ix_(s, s)] - np.diag(1.0 / k[s]), stretch0[s],
+                                             singular="tension-only droppers: the slack droppers' Woodbury system is "
+                                                      "singular (a slack dropper's stiffness cancels the structure's)")
+                z = -y
             else:
                 z, stretch = np.zeros(0), stretch0
             new_slack = dropper_slack(dropper_axial_force(f0, k, stretch, 0.0, 0.0))

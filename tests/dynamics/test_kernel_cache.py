@@ -5,7 +5,7 @@ numba keys a cached function by its own file only; the kernel's functions are co
 The test copies the package (with its warm cache) to a temporary folder, runs a one-run batch there
 in a subprocess, multiplies the friction law in ``laws.py`` by 0.8 — a file the cached kernel
 (``kernel.advance``) does not live in — and runs the batch again: the kernel must recompile and the
-contact force change. Before the fix, such an edit (in ``batch_newton.py``) passed the whole suite on
+contact force change. Before the fix, such an edit (then in ``batch_newton.py``) passed the whole suite on
 the old cached code.
 """
 
@@ -61,7 +61,8 @@ def _run(root: Path) -> dict:
 
 def test_the_kernel_depends_on_the_laws_and_every_kernel_file():
     files = {Path(f).name for f in jit.dependency_files(kernel.advance.py_func)}
-    assert {"kernel.py", "batch_newton.py", "laws.py", "sweeps.py", "banded_numba.py", "linearised.py"} <= files
+    assert {"kernel.py", "batch_newton.py", "batch_forces.py", "batch_woodbury.py", "batch_predictor.py",
+            "batch_update.py", "laws.py", "sweeps.py", "banded_numba.py", "linearised.py"} <= files
 
 
 def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path):
@@ -86,8 +87,8 @@ def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path
 
 def test_the_batch_compiles_the_laws_module_itself():
     """The batch's friction is laws.friction compiled inline (the edit above reaches the batch)."""
-    from presag_opt.dynamics import batch_newton
+    from presag_opt.dynamics import batch_forces
 
-    assert batch_newton.friction.py_func is laws.friction
-    assert batch_newton.contact_force.py_func is laws.contact_force
-    assert batch_newton.dropper_axial_force.py_func is laws.dropper_axial_force
+    assert batch_forces.friction.py_func is laws.friction
+    assert batch_forces.contact_force.py_func is laws.contact_force
+    assert batch_forces.dropper_axial_force.py_func is laws.dropper_axial_force

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.dynamics import batch_newton, laws
+from presag_opt.dynamics import batch_forces, laws
 from presag_opt.dynamics.integrator import IntegratorSettings
 
 
@@ -91,9 +91,9 @@ def test_the_suspension_ends_on_the_car_body():
 @pytest.mark.parametrize("penetration", [-2e-3, 0.0, 3e-3])
 def test_the_compiled_laws_equal_the_plain_ones_to_the_last_bit(penetration):
     k = laws.contact_stiffness(50e3, 3.7e-6)
-    assert batch_newton.contact_stiffness(50e3, 3.7e-6) == k
-    assert batch_newton.contact_force(k, penetration) == laws.contact_force(k, penetration)
-    assert batch_newton.contact_tangent(k, penetration) == laws.contact_tangent(k, penetration)
-    assert batch_newton.friction(25.0, penetration, 1e-3, 812.5) == laws.friction(25.0, penetration, 1e-3, 812.5)
+    assert batch_forces.contact_stiffness(50e3, 3.7e-6) == k
+    assert batch_forces.contact_force(k, penetration) == laws.contact_force(k, penetration)
+    assert batch_forces.contact_tangent(k, penetration) == laws.contact_tangent(k, penetration)
+    assert batch_forces.friction(25.0, penetration, 1e-3, 812.5) == laws.friction(25.0, penetration, 1e-3, 812.5)
     axial = laws.dropper_axial_force(100.0, 1e5, penetration, 0.3, 1e-4)
-    assert batch_newton.dropper_axial_force(100.0, 1e5, penetration, 0.3, 1e-4) == axial
+    assert batch_forces.dropper_axial_force(100.0, 1e5, penetration, 0.3, 1e-4) == axial

@@ -1,0 +1,220 @@
+"""The batch kernel's nonlinear forces of one run: contact, pantograph friction and slack droppers (numba).
+
+:func:`nonlinear_forces` gathers the forces and the Newton tangent ∂f/∂u + a1 ∂f/∂v of one run at
+one iterate into a small dense set: the DOFs that carry a nonlinear force, in order of entry
+(:func:`enter_set`), each with its force [N] and the set's tangent [N/m]. The three force sets, in
+the order they enter: the penalty contact of every pantograph head with the two contact-wire nodes
+under it (:func:`contact_set`), the regularised friction of every pantograph suspension element
+(:func:`friction_set`), and every slack dropper, whose axial part is removed (:func:`dropper_set`).
+The laws are those of :mod:`presag_opt.dynamics.laws`, compiled inline (the same functions the
+single-run path calls plainly). The arrays are the named tuples of
+:mod:`presag_opt.dynamics.kernel_data`; the iteration that uses the set is
+:mod:`presag_opt.dynamics.batch_newton`'s.
+"""
+
+from __future__ import annotations
+
+from presag_opt.dynamics import laws
+from presag_opt.native.jit import inline, kernel_function
+
+contact_stiffness = inline(laws.contact_stiffness)
+contact_force = inline(laws.contact_force)
+contact_tangent = inline(laws.contact_tangent)
+friction = inline(laws.friction)
+dropper_axial_force = inline(laws.dropper_axial_force)
+dropper_slack = inline(laws.dropper_slack)
+dropper_tension = inline(laws.dropper_tension)
+
+
+@kernel_function
+def enter_set(dof, set_dofs, set_force, tangent, position, count):
+    """Position of ``dof`` in the current nonlinear set, adding it (zero force and tangent) if new;
+    returns (its position, the new set size).
+
+    Parameters
+    ----------
+    dof : int
+        Degree of freedom (extended: pantograph DOFs after the catenary's). [-]
+    set_dofs : ndarray of int
+        DOFs of the set, in order of entry. [-]
+    set_force : ndarray
+        Nonlinear force on each DOF of the set. [N]
+    tangent : ndarray, shape (m, m)
+        Dense Newton tangent on the set. [N/m]
+    position : ndarray of int
+        Position of each DOF in the set (-1: not in it). [-]
+    count : int
+        Current size of the set. [-]
+    """
+    p = position[dof]
+    if p >= 0:
+        return p, count
+    position[dof] = count
+    set_dofs[count] = dof
+    set_force[count] = 0.0
+    for i in range(count + 1):
+        tangent[count, i] = 0.0
+        tangent[i, count] = 0.0
+    return count, count + 1
+
+
+@inline
+def contact_set(b, step, count, shared, runs, scratch):
+    """Each head's penalty contact with the contact wire: the two wire nodes under the head and the
+    head enter the set (in contact or not), the force and tangent where the head penetrates the
+    wire's chord; each contact force [N] in ``scratch.contact_now``. Returns the set size.
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    count : int
+        Size of the set before. [-]
+    shared : Shared
+        What the runs of the batch share.
+    runs : Runs
+        What differs between the runs.
+    scratch : Scratch
+        Scratch arrays of the run being iterated (``u_of`` read [m]).
+    """
+    head_dof, penalty, cw_height = shared.head_dof, shared.contact_stiffness, shared.cw_height
+    path_nodes, path_weights, path_compliance, head_height = (runs.path_nodes, runs.path_weights, runs.path_compliance,
+                                                              runs.head_height)
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    contact_now, u_of = scratch.contact_now, scratch.u_of
+    for p in range(head_dof.shape[0]):
+        n1, n2 = path_nodes[b, p, step, 0], path_nodes[b, p, step, 1]
+        w1, w2 = path_weights[b, p, step, 0], path_weights[b, p, step, 1]
+        stiffness = contact_stiffness(penalty[p], path_compliance[b, p, step])
+        head = head_dof[p]
+        wire = w1 * (cw_height[n1] + u_of[n1]) + w2 * (cw_height[n2] + u_of[n2])
+        penetration = head_height[b, p] + u_of[head] - wire
+        q1, count = enter_set(n1, set_dofs, set_force, tangent, position, count)
+        q2, count = enter_set(n2, set_dofs, set_force, tangent, position, count)
+        qh, count = enter_set(head, set_dofs, set_force, tangent, position, count)
+        force = contact_force(stiffness, penetration)
+        k = contact_tangent(stiffness, penetration)
+        contact_now[p] = force
+        if k != 0.0:
+            set_force[q1] -= w1 * force
+            set_force[q2] -= w2 * force
+            set_force[qh] += force
+            tangent[q1, q1] += k * w1 * w1
+            tangent[q1, q2] += k * w1 * w2
+            tangent[q1, qh] -= k * w1
+            tangent[q2, q1] += k * w2 * w1
+            tangent[q2, q2] += k * w2 * w2
+            tangent[q2, qh] -= k * w2
+            tangent[qh, q1] -= k * w1
+            tangent[qh, q2] -= k * w2
+            tangent[qh, qh] += k
+    return count
+
+
+@inline
+def friction_set(a1, count, scalars, shared, scratch):
+    """Each suspension element's regularised friction, on its upper stage and, but for the lowest
+    (on the car body), the stage below. Returns the set size.
+
+    Parameters
+    ----------
+    a1 : float
+        Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
+    count : int
+        Size of the set before. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    scratch : Scratch
+        Scratch arrays of the run being iterated (``v_of`` read [m/s]).
+    """
+    friction_dofs, friction_levels, friction_velocity = (shared.friction_dofs, shared.friction_levels,
+                                                         scalars.friction_velocity)
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    v_of = scratch.v_of
+    for e in range(friction_levels.shape[0]):
+        upper, lower = friction_dofs[e, 0], friction_dofs[e, 1]
+        relative = v_of[upper] - (v_of[lower] if lower >= 0 else 0.0)
+        force, slope = friction(friction_levels[e], relative, friction_velocity, a1)
+        qu, count = enter_set(upper, set_dofs, set_force, tangent, position, count)
+        set_force[qu] += force
+        tangent[qu, qu] += slope
+        if lower >= 0:
+            ql, count = enter_set(lower, set_dofs, set_force, tangent, position, count)
+            set_force[ql] -= force
+            tangent[ql, ql] += slope
+            tangent[qu, ql] -= slope
+            tangent[ql, qu] -= slope
+    return count
+
+
+@inline
+def dropper_set(a1, count, scalars, shared, scratch):
+    """Each slack dropper's six DOFs, with the force and tangent that remove its axial part.
+    Returns (set size, recorded droppers slack).
+
+    Parameters
+    ----------
+    a1 : float
+        Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
+    count : int
+        Size of the set before. [-]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        What the runs of the batch share.
+    scratch : Scratch
+        Scratch arrays of the run being iterated (``stretch`` [m] and ``rate`` [m/s] read).
+    """
+    dropper_dofs, dropper_gradient, dropper_stiffness = shared.dropper_dofs, shared.dropper_gradient, shared.dropper_stiffness
+    dropper_preload, dropper_recorded, rayleigh_beta = shared.dropper_preload, shared.dropper_recorded, scalars.rayleigh_beta
+    set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
+    stretch, rate, q = scratch.stretch, scratch.rate, scratch.dropper_set
+    slack_recorded = 0
+    for d in range(dropper_preload.shape[0]):
+        axial = dropper_axial_force(dropper_preload[d], dropper_stiffness[d], stretch[d], rate[d], rayleigh_beta)
+        if dropper_tension(axial) <= 0.0 and dropper_recorded[d]:
+            slack_recorded += 1
+        if dropper_slack(axial):
+            for c in range(6):
+                q[c], count = enter_set(dropper_dofs[d, c], set_dofs, set_force, tangent, position, count)
+            k = -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta)
+            for i in range(6):
+                set_force[q[i]] += -axial * dropper_gradient[d, i]
+                for c in range(6):
+                    tangent[q[i], q[c]] += k * dropper_gradient[d, i] * dropper_gradient[d, c]
+    return count, slack_recorded
+
+
+@kernel_function
+def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
+    """Nonlinear forces and Newton tangent ∂f/∂u + a1 ∂f/∂v of run ``b`` at record ``step``.
+
+    Reads the full displacement ``scratch.u_of`` [m] and velocity ``scratch.v_of`` [m/s] at the
+    contact nodes and the pantograph DOFs, and every dropper's stretch ``scratch.stretch`` [m] and
+    rate ``scratch.rate`` [m/s]. Writes the set's DOFs, forces [N], dense tangent [N/m] and each
+    contact force [N] into ``scratch``; returns (set size, recorded droppers slack).
+
+    Parameters
+    ----------
+    b : int
+        Run, the column of the batch arrays. [-]
+    step : int
+        Record (time step) being computed. [-]
+    a1 : float
+        Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
+    scalars : Scalars
+        Constants of the batch.
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    runs : Runs
+        Per-run inputs (contact paths, step counts, head heights).
+    scratch : Scratch
+        Scratch arrays of the run being iterated.
+    """
+    count = contact_set(b, step, 0, shared, runs, scratch)
+    count = friction_set(a1, count, scalars, shared, scratch)
+    return dropper_set(a1, count, scalars, shared, scratch)
