@@ -6,8 +6,6 @@ import argparse
 import dataclasses
 import time
 
-from presag_opt.errors import ModelError
-
 from presag_opt.cli.common import (
     add_json_flag,
     model_help,
@@ -17,6 +15,7 @@ from presag_opt.cli.common import (
     progress,
 )
 from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
+from presag_opt.errors import ModelError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

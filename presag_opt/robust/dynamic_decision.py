@@ -23,7 +23,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from presag_opt.design.band import KMH, OperatingBand
-from presag_opt.design.decision import DYNAMIC_ROBUST, QUASI_STATIC_ROBUST, Candidate, Decision, decide, dynamic_candidate
+from presag_opt.design.decision import (
+    DYNAMIC_ROBUST,
+    QUASI_STATIC_ROBUST,
+    Candidate,
+    Decision,
+    decide,
+    dynamic_candidate,
+)
 from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import plan_run
