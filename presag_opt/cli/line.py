@@ -14,6 +14,7 @@ from presag_opt.cli.common import (
     print_warnings,
     progress,
 )
+from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
 from presag_opt.errors import ModelError
 
@@ -56,40 +57,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx (needs openpyxl)")
     add_json_flag(p)
     p.set_defaults(handler=design_command)
-
-
-def add_dynamic_robust_option(p: argparse.ArgumentParser, where: str) -> None:
-    """Add ``--dynamic-robust`` (shared by ``presag design`` and ``presag recommend``)."""
-    p.add_argument("--dynamic-robust", action="store_true",
-                   help=f"also run the dynamic robust design of the band (as presag robust --dynamic) on {where} and "
-                        "decide with it: the decision is then final where the dynamic design decides; minutes "
-                        "(about a minute for the case study on an idle 2-core machine)")
-
-
-def dynamic_robust(args: argparse.Namespace, decision, catenary, band, where: str, report):
-    """Announce the cost on stderr, then run :func:`presag_opt.robust.dynamic_decision.dynamic_robust_decision`."""
-    import sys
-
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.report.line_dynamic import CHECK_PANTOGRAPH
-    from presag_opt.robust.dynamic_decision import dynamic_cost, dynamic_robust_decision, simulated_band
-
-    pantograph = load_pantograph(CHECK_PANTOGRAPH)
-    simulated = simulated_band(band)
-    cost = dynamic_cost(catenary, pantograph, simulated, workers=2)
-    if not getattr(args, "quiet", False):
-        print(f"\npresag: the dynamic robust design of {where} at {simulated.speed_low * 3.6:.0f}–"
-              f"{simulated.speed_high * 3.6:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
-              "(about a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)
-    return dynamic_robust_decision(decision, catenary, pantograph, band, where=where, workers=2, progress=report)
-
-
-def dynamic_robust_summary(result) -> dict:
-    """JSON summary of a :class:`~presag_opt.robust.dynamic_decision.DynamicDecision` (mm, N, s)."""
-    data = result.study.to_dict()
-    keep = ("presag_mm", "presag_rel_permille", "tolerance_mm", "uplift_max_mm", "reference_span_m", "runs_used",
-            "wall_time_s", "static_force_N", "speed_kmh")
-    return {"where": result.where, **{k: data[k] for k in keep if k in data}}
 
 
 def _span_rule(args: argparse.Namespace):

@@ -17,6 +17,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.design import (
     CASE_STUDY_BAND,
     CASE_STUDY_MODELS,
@@ -63,8 +64,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="a list of " + model_help("catenaries", ",".join(CASE_STUDY_MODELS)),
     )
     add_band_options(p)
-    from presag_opt.cli.line import add_dynamic_robust_option  # (line imports this module at its top)
-
     add_dynamic_robust_option(p, "the first model (the case study's ideal section by default)")
     p.add_argument("--method", metavar="{mid-mast,delta-e}", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
     p.add_argument("--force-levels", metavar="N,N,...", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
@@ -204,8 +203,6 @@ def recommend_command(args: argparse.Namespace) -> int:
         if args.dynamic_robust:
             import dataclasses
 
-            from presag_opt.cli.line import dynamic_robust
-
             first = load_catenary(models[0])
             robust = dynamic_robust(args, result.decision, first, band, first.name, report)
             result = dataclasses.replace(result, decision=robust.decision)
@@ -223,8 +220,6 @@ def recommend_command(args: argparse.Namespace) -> int:
         if comparison is not None:
             out["paper_comparison"] = comparison.to_dict()
         if robust is not None:
-            from presag_opt.cli.line import dynamic_robust_summary
-
             out["dynamic_robust"] = dynamic_robust_summary(robust)
         print_json(out)
         return 0

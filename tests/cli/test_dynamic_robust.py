@@ -8,8 +8,11 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
+
+from presag_opt.cli.dynamic_robust import dynamic_robust_summary
 
 SCRIPT = Path(sys.executable).parent / "presag"
 
@@ -31,3 +34,12 @@ def test_recommend_with_the_dynamic_robust_design_is_final(tmp_path):
     assert dynamic["presag_mm"] == pytest.approx(45.1, abs=1.0)
     low, high = dynamic["tolerance_mm"]
     assert low - 1e-6 <= decision["chosen"]["presag_mm"] <= high + 1e-6
+
+
+def test_the_dynamic_robust_summary_keeps_the_figures_a_designer_reads():
+    data = {"presag_mm": 45.1, "presag_rel_permille": 0.75, "tolerance_mm": [28.0, 56.1], "uplift_max_mm": 52.9,
+            "reference_span_m": 60.0, "runs_used": 60, "wall_time_s": 240.0, "static_force_N": [70.0, 140.0],
+            "speed_kmh": [50.0, 90.0], "curve": "left out"}
+    result = SimpleNamespace(where="section A", study=SimpleNamespace(to_dict=lambda: data))
+    summary = dynamic_robust_summary(result)
+    assert summary["where"] == "section A" and summary["presag_mm"] == 45.1 and "curve" not in summary
