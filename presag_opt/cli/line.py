@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 
 from presag_opt.cli.common import (
@@ -13,7 +14,9 @@ from presag_opt.cli.common import (
     print_warnings,
     progress,
 )
+from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
+from presag_opt.errors import ModelError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,9 +37,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help=model_help("catenaries", "st_9.8_mixed") + "; its layout and geometry are replaced by the survey")
     p.add_argument("--out", metavar="DIR", required=True, help="folder for the outputs (created if missing)")
     add_band_options(p)
-    p.add_argument("--rule", choices=("proportional", "per-span"), default="proportional",
-                   help="pre-sag per span: S = S_rel·l with the line's S_rel (default, Swedish practice) or each "
-                        "span's own quasi-static S_rel")
+    p.add_argument("--rule", choices=("proportional", "per-span", "robust"), default="proportional",
+                   help="pre-sag per span: S = S_rel·l with the line's S_rel (default, Swedish practice); each "
+                        "span's own quasi-static S_rel; or each span's own quasi-static robust parabola (minimax "
+                        "waviness over the F_m band, below the line between its supports), with its tolerance "
+                        "in spans.csv")
+    p.add_argument("--within", metavar="PERCENT", type=float, default=None,
+                   help="allowed loss of each span's tolerance interval under --rule robust, in %% (default 10)")
     p.add_argument("--working-width", metavar="MM", type=float, default=400.0,
                    help="half working width of the pantograph: largest stagger accepted, in mm (default 400)")
     p.add_argument("--element-length", metavar="M", type=float, default=0.5, help="longest element in m (default 0.5)")
@@ -46,9 +53,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--dynamic-check", action="store_true",
                    help="also simulate the band's worst points (top speed, highest static force) on the section "
                         "with the largest static uplift")
+    add_dynamic_robust_option(p, "the line's worst section (the largest static uplift estimate)")
     p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx (needs openpyxl)")
     add_json_flag(p)
     p.set_defaults(handler=design_command)
+
+
+def _span_rule(args: argparse.Namespace):
+    """The span rule of ``--rule robust`` (None for the other rules)."""
+    if args.rule != "robust":
+        if args.within is not None:
+            raise ModelError(f"--within is an option of --rule robust, not of --rule {args.rule}")
+        return None
+    from presag_opt.robust.span_design import RobustSpanRule
+
+    return RobustSpanRule(within=(10.0 if args.within is None else args.within) / 100.0)
 
 
 def design_command(args: argparse.Namespace) -> int:
@@ -65,17 +84,24 @@ def design_command(args: argparse.Namespace) -> int:
     band = operating_band(args)
     check_band_speed(args, [base])
     options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=args.workers)
+    span_rule = _span_rule(args)
     folder = output_folder(args.out)
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
-        design = design_line(survey, base, band, options, progress=report)
+        design = design_line(survey, base, band, options, progress=report, span_rule=span_rule)
         check = None
         if args.dynamic_check:
             from presag_opt.report.line_dynamic import dynamic_check
 
             check = dynamic_check(design, progress=report)
             design = check.design
+        robust = None
+        if args.dynamic_robust:
+            worst = max(design.sections, key=lambda sec: max(s.static_uplift for s in sec.spans if s.sized))
+            robust = dynamic_robust(args, design.decision, worst.catenary.with_presag(design.presag_rel), band,
+                                    f"section {worst.section}", report)
+            design = dataclasses.replace(design, decision=robust.decision)
         paths = write_line_outputs(design, folder, xlsx=args.xlsx, dynamic_check=None if check is None else check.html())
     seconds = time.perf_counter() - start
     print_warnings(str(w.message) for w in caught)
@@ -91,6 +117,7 @@ def design_command(args: argparse.Namespace) -> int:
                               for r in design.rules if not r.passed],
             "notes": list(design.notes),
             "outputs": {k: str(v) for k, v in paths.items()},
+            "dynamic_robust": None if robust is None else dynamic_robust_summary(robust),
             "seconds": seconds,
         })
         return 0

@@ -17,6 +17,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.design import (
     CASE_STUDY_BAND,
     CASE_STUDY_MODELS,
@@ -63,6 +64,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="a list of " + model_help("catenaries", ",".join(CASE_STUDY_MODELS)),
     )
     add_band_options(p)
+    add_dynamic_robust_option(p, "the first model (the case study's ideal section by default)")
     p.add_argument("--method", metavar="{mid-mast,delta-e}", default="delta-e", help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
     p.add_argument("--force-levels", metavar="N,N,...", type=float_list, default=None, help="elasticity force levels in N (default: 50 N steps around the band)")
     p.add_argument("--step", metavar="M", type=positive_float, default=0.5, help="point spacing of the elasticity curves in m (default 0.5)")
@@ -197,6 +199,13 @@ def recommend_command(args: argparse.Namespace) -> int:
             nominal_span_length=args.span_length, recompute_at_recommended=args.recompute, **common,
         )
         comparison = compare_with_paper(result, **common) if args.compare_paper else None
+        robust = None
+        if args.dynamic_robust:
+            import dataclasses
+
+            first = load_catenary(models[0])
+            robust = dynamic_robust(args, result.decision, first, band, first.name, report)
+            result = dataclasses.replace(result, decision=robust.decision)
     print_warnings(str(w.message) for w in caught)
     if plot:
         from presag_opt.plotting import plot_presag_against_force
@@ -210,6 +219,8 @@ def recommend_command(args: argparse.Namespace) -> int:
         out = result.to_dict()
         if comparison is not None:
             out["paper_comparison"] = comparison.to_dict()
+        if robust is not None:
+            out["dynamic_robust"] = dynamic_robust_summary(robust)
         print_json(out)
         return 0
     print_recommendation(result, per_span=args.per_span)

@@ -22,6 +22,7 @@ Elasticity values reported per span are those of pass 1 at the band-centre F_m.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable
 from concurrent.futures import as_completed
@@ -30,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import OperatingBand, force_levels_for_band
-from presag_opt.design.decision import Decision
+from presag_opt.design.decision import QUASI_STATIC_ROBUST, Candidate, Decision, decide
 from presag_opt.design.line_rules import RuleCheck, check_rules
 from presag_opt.design.recommendation import (
     LayoutRecommendation,
@@ -40,17 +41,19 @@ from presag_opt.design.recommendation import (
 from presag_opt.design.section import (
     SectionElasticity,
     default_spans,
-    section_elasticity,
 )
+from presag_opt.elasticity import elasticity_study
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey, SurveySection, section_catenary
 
-PRESAG_RULES = ("proportional", "per-span")
-"""Pre-sag rules of a line: S = S_rel·l with the line's S_rel, or each span's own quasi-static S_rel."""
+PRESAG_RULES = ("proportional", "per-span", "robust")
+"""Pre-sag rules of a line: S = S_rel·l with the line's S_rel; each span's own quasi-static S_rel; each
+span's own quasi-static robust parabola (a ``span_rule`` from :mod:`presag_opt.robust.span_design`)."""
 
 OVERLAP_NOTE = ("overlap spans between tension sections are not modelled: each section is designed on its own, "
                 "with balance weights at both ends and a mid-point anchor")
@@ -63,7 +66,8 @@ class LineOptions:
     Attributes
     ----------
     rule : str
-        ``proportional`` (S = S_rel·l, Swedish practice) or ``per-span``.
+        ``proportional`` (S = S_rel·l, Swedish practice), ``per-span`` or ``robust`` (needs a
+        ``span_rule`` in :func:`design_line`).
     element_length : float
         Longest element of the static model. [m]
     step : float
@@ -98,6 +102,32 @@ class LineOptions:
 
 
 @dataclass(frozen=True, kw_only=True)
+class SpanPresags:
+    """A section's pre-sag per span from a span rule (e.g. the per-span robust rule).
+
+    Attributes
+    ----------
+    presag : ndarray
+        Mid-span pre-sag of every span, below the line between its supports. [m]
+    tolerance : ndarray, shape (n_spans, 2)
+        Installation tolerance interval of each span's mid-span pre-sag (NaN where the span took
+        the section's mean, e.g. an end span). [m]
+    presag_rel : float
+        The section's representative S_rel: the mean of its sized spans'. [-]
+    presag_rel_tolerance : tuple of float
+        The mean of the sized spans' tolerance ends in S_rel. [-]
+    method : str
+        What produced it (shown with the decision).
+    """
+
+    presag: np.ndarray
+    tolerance: np.ndarray
+    presag_rel: float
+    presag_rel_tolerance: tuple[float, float]
+    method: str
+
+
+@dataclass(frozen=True, kw_only=True)
 class SectionSizing:
     """Pass 1 of one section.
 
@@ -107,10 +137,13 @@ class SectionSizing:
         The quasi-static Δe rule over the band, from the sized (inner) spans.
     elasticity : SectionElasticity
         The elasticity curves of every span (the end spans too, for the span table).
+    span_presags : SpanPresags or None
+        The span rule's pre-sags (rule ``robust``), else None.
     """
 
     recommendation: LayoutRecommendation
     elasticity: SectionElasticity
+    span_presags: SpanPresags | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -140,6 +173,9 @@ class SpanDesign:
         Static uplift estimate at ``from_mast``: F_m at the top of the band times e_mast there. [m]
     sized : bool
         Whether the span took part in sizing the pre-sag (not the section's end spans).
+    tolerance : tuple of float or None
+        Installation tolerance interval of ``presag`` from the span rule (rule ``robust``), else
+        None. [m]
     """
 
     section: str
@@ -155,6 +191,7 @@ class SpanDesign:
     steady_arm_force: float
     static_uplift: float
     sized: bool
+    tolerance: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -272,6 +309,7 @@ def design_line(
     band: OperatingBand,
     options: LineOptions | None = None,
     progress: Callable[[str], None] | None = None,
+    span_rule: Callable[..., SpanPresags] | None = None,
 ) -> LineDesign:
     """Design every tension section of a surveyed line (see the module docstring).
 
@@ -288,26 +326,35 @@ def design_line(
         Pre-sag rule and numerics.
     progress : callable, optional
         Called with a short message as sections finish.
+    span_rule : callable, optional
+        The pre-sag of every span for rule ``robust``: called as ``span_rule(state, elasticity,
+        sized_spans, band, settings)`` on each section's sizing pass and returning a
+        :class:`SpanPresags` (:class:`presag_opt.robust.span_design.RobustSpanRule`; the design
+        layer does not import the robust one). Picklable, as it runs in the worker processes.
 
     Raises
     ------
     ModelError
-        A section the base system cannot be built on (e.g. a span too short for its dropper rule,
+        Rule ``robust`` without a ``span_rule``, or a span rule given for another rule;
+        a section the base system cannot be built on (e.g. a span too short for its dropper rule,
         droppers shorter than the shortest buildable one).
     """
     options = options or LineOptions()
     if not isinstance(survey, Survey):
         raise ModelError(f"survey must be a Survey, not {type(survey).__name__}")
+    if (options.rule == "robust") != (span_rule is not None):
+        raise ModelError("rule 'robust' needs a span_rule (presag_opt.robust.span_design.RobustSpanRule), and "
+                         f"only it takes one (rule = {options.rule!r}, span_rule {'given' if span_rule else 'missing'})")
     sections = survey.sections()
     catenaries = [section_catenary(base, s, label=f"{survey.source}, section {s.section}") for s in sections]
     low, high = band.mean_force_band()
     levels = force_levels_for_band(low, high)
     settings = StaticSettings(element_length=options.element_length, geometry_tolerance=options.geometry_tolerance)
-    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings) for c in catenaries],
+    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings, span_rule) for c in catenaries],
                           options.workers, "sizing", progress)
     layouts = [s.recommendation for s in sizing]
     presag_rel = float(np.mean([end for lay in layouts for end in lay.presag_rel_range]))
-    decision = quick_decision(layouts, presag_rel, band)
+    decision = _with_rule(quick_decision(layouts, presag_rel, band), sizing)
     jobs = [(c, sec, size, presag_rel, options.rule, band, settings, survey.working_width)
             for c, sec, size in zip(catenaries, sections, sizing)]
     built = _in_parallel(_build_section, jobs, options.workers, "building", progress)
@@ -347,17 +394,86 @@ def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str
         return [f.result() for f in futures]
 
 
+def _with_rule(decision: Decision, sizing: list[SectionSizing]) -> Decision:
+    """The decision made again with the span rule's answer beside the Δe rule: the mean of the sections'
+    S_rel and tolerance ends, with the same static uplift estimate (F_m·e_mast does not depend on S)."""
+    rules = [s.span_presags for s in sizing if s.span_presags is not None]
+    if not rules:
+        return decision
+    inputs = decision.inputs
+    robust = Candidate(method=QUASI_STATIC_ROBUST, presag_rel=float(np.mean([r.presag_rel for r in rules])),
+                       tolerance=(float(np.mean([r.presag_rel_tolerance[0] for r in rules])),
+                                  float(np.mean([r.presag_rel_tolerance[1] for r in rules]))),
+                       uplift=inputs.candidates[0].uplift, uplift_dynamic=inputs.candidates[0].uplift_dynamic)
+    kept = tuple(n for n in inputs.not_checked if not n.startswith("the quasi-static robust design"))
+    return decide(dataclasses.replace(inputs, candidates=inputs.candidates + (robust,), not_checked=kept + (
+        f"the robust design is per span ({rules[0].method}); its S_rel is the mean of the sized spans'",)))
+
+
 def _size_section(catenary: Catenary, levels, band: OperatingBand, step: float,
-                  settings: StaticSettings) -> SectionSizing:
-    """Pass 1 of one section: elasticity of every span, the Δe rule over the band from the inner spans."""
-    everything = section_elasticity(catenary, force_levels=levels, spans=range(catenary.layout.n_spans), step=step,
-                                    settings=settings)
+                  settings: StaticSettings, span_rule=None) -> SectionSizing:
+    """Pass 1 of one section: elasticity of every span, the Δe rule over the band from the inner spans, and
+    the span rule's pre-sags where there is one."""
+    state = form_find(catenary, settings)
+    everything = section_curves(state, levels, step)
     inner = set(_sized_spans(catenary))
     sized = SectionElasticity(catenary=everything.catenary,
                               studies=tuple(s for s in everything.studies if s.span in inner),
                               force_levels=everything.force_levels, elasticity_method=everything.elasticity_method,
                               step=everything.step)
-    return SectionSizing(recommendation=layout_recommendation(sized, band), elasticity=everything)
+    rule = None if span_rule is None else span_rule(state, everything, sorted(inner), band, settings)
+    return SectionSizing(recommendation=layout_recommendation(sized, band), elasticity=everything, span_presags=rule)
+
+
+def section_curves(state: EquilibriumState, levels, step: float) -> SectionElasticity:
+    """Elasticity curves of every span of a form-found section: active-set, Newton where it cannot settle.
+
+    The active-set method solves the structure linearised about the unloaded equilibrium with
+    tension-only droppers. Next to a push-off arm that linearisation can lose its stability: the
+    compressed arm's geometric stiffness across it is negative, −C·cos²θ/L (an inverted pendulum),
+    and once the uplift slackens the droppers next to the mast, the contact wire there is held only
+    by its tension over the distance to the next taut droppers, T·(1/a + 1/b); where that is less than
+    C/L (e.g. 645 N on a 1 m arm, ST 7,1/7,1 on a 500 m curve with 45 m spans) the linearised problem
+    has no stable solution and its slack set cycles. The span is then computed by the geometrically
+    nonlinear Newton method (the arm's rotation and the wire's stretch in the equations; each contact
+    position starts from the previous one's equilibrium, a continuation along the span), which finds the equilibrium where one exists; where it does not, the arm flips under the
+    load, and the error names the mast, the arm force and the load.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The section form-found.
+    levels : sequence of float
+        Force levels. [N]
+    step : float
+        Point spacing of the curves. [m]
+
+    Raises
+    ------
+    ModelError
+        No equilibrium under a force level in a span next to a push-off arm (the arm would flip).
+    """
+    catenary = state.catenary
+    studies, fallback = [], []
+    for span in range(catenary.layout.n_spans):
+        try:
+            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="active-set"))
+            continue
+        except ConvergenceError:
+            fallback.append(span)
+        try:
+            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="newton"))
+        except ConvergenceError as exc:
+            push = np.flatnonzero(catenary.mast_push_off())
+            arms = [m for m in (span, span + 1) if m in set(push)] or list(push)
+            forces = state.steady_arm_forces()
+            names = ", ".join(f"mast {m + 1} ({-forces[m]:.0f} N of compression)" for m in arms) or "none"
+            raise ModelError(
+                f"span {span + 1}: no equilibrium under an uplift up to {max(levels):g} N; push-off arm(s) at {names}: "
+                "the compressed arm would flip once the droppers next to it go slack (its negative stiffness C/L exceeds "
+                "the wire's); use a pull-off arm there, a longer arm, or shorter spans") from exc
+    return SectionElasticity(catenary=catenary, studies=tuple(studies), force_levels=tuple(sorted(levels)),
+                             elasticity_method="newton" if fallback else "active-set", step=step)
 
 
 def _sized_spans(catenary: Catenary) -> tuple[int, ...]:
@@ -371,6 +487,8 @@ def _span_presags(catenary: Catenary, sizing: SectionSizing, presag_rel: float, 
     lengths = np.asarray(catenary.layout.span_lengths)
     if rule == "proportional":
         return presag_rel * lengths
+    if rule == "robust":
+        return np.asarray(sizing.span_presags.presag, dtype=float)
     rec = sizing.recommendation
     own = dict(zip(rec.at_band_low.spans, 0.5 * (rec.at_band_low.presag_rel + rec.at_band_high.presag_rel)))
     return np.array([own.get(s, presag_rel) for s in range(len(lengths))]) * lengths
@@ -395,12 +513,15 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     curves = dict(zip(sizing.elasticity.spans, sizing.elasticity.curves_at(centre)))
     arm = state.steady_arm_forces()
     inner = set(_sized_spans(catenary))
+    tolerance = (None if sizing.span_presags is None else
+                 [None if np.isnan(t).any() else (float(t[0]), float(t[1])) for t in sizing.span_presags.tolerance])
     spans = tuple(
         SpanDesign(section=section.section, span=s + 1, from_mast=ids[s], to_mast=ids[s + 1],
                    chainage=section.masts[s].chainage, length=float(lengths[s]), presag=float(presag[s]),
                    e_mid=curves[s].e_mid, e_mast=float(curves[s].elasticity[0]), delta_e=curves[s].delta_e,
                    steady_arm_force=float(arm[s]) if len(arm) else 0.0,
-                   static_uplift=top * float(curves[s].elasticity[0]), sized=s in inner)
+                   static_uplift=top * float(curves[s].elasticity[0]), sized=s in inner,
+                   tolerance=None if tolerance is None else tolerance[s])
         for s in range(len(lengths))
     )
     cut = state.params.unstretched_length[disc.dropper_elements]

@@ -24,6 +24,15 @@ SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_m
                 "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm")
 """Columns of ``spans.csv`` (steady-arm pull and static uplift at ``from_mast``)."""
 
+TOLERANCE_COLUMNS = ("presag_tolerance_low_mm", "presag_tolerance_high_mm")
+"""Columns ``spans.csv`` adds under rule ``robust``: each span's installation tolerance interval of its
+mid-span pre-sag (empty for a span that took its section's mean, e.g. an end span)."""
+
+
+def span_columns(design: LineDesign) -> tuple[str, ...]:
+    """Columns of ``spans.csv`` for this design (:data:`SPAN_COLUMNS`, and the tolerance under rule ``robust``)."""
+    return SPAN_COLUMNS + (TOLERANCE_COLUMNS if design.options.rule == "robust" else ())
+
 
 def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
     """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
@@ -39,8 +48,17 @@ def span_rows(design: LineDesign) -> list[dict[str, object]]:
              "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
              "presag_rel_permille": round(s.presag / s.length * 1e3, 4), "e_mid_mm_per_N": round(s.e_mid * 1e3, 4),
              "e_mast_mm_per_N": round(s.e_mast * 1e3, 4), "delta_e_mm_per_N": round(s.delta_e * 1e3, 4),
-             "steady_arm_pull_N": round(s.steady_arm_force, 1), "static_uplift_mm": round(s.static_uplift * 1e3, 1)}
+             "steady_arm_pull_N": round(s.steady_arm_force, 1), "static_uplift_mm": round(s.static_uplift * 1e3, 1),
+             **_tolerance(design, s)}
             for s in design.spans]
+
+
+def _tolerance(design: LineDesign, span) -> dict[str, object]:
+    if design.options.rule != "robust":
+        return {}
+    if span.tolerance is None:
+        return dict.fromkeys(TOLERANCE_COLUMNS, "")
+    return dict(zip(TOLERANCE_COLUMNS, (round(t * 1e3, 1) for t in span.tolerance)))
 
 
 def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = False,
@@ -65,7 +83,7 @@ def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = F
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    tables = {"droppers": (DROPPER_COLUMNS, dropper_rows(design)), "spans": (SPAN_COLUMNS, span_rows(design))}
+    tables = {"droppers": (DROPPER_COLUMNS, dropper_rows(design)), "spans": (span_columns(design), span_rows(design))}
     out = {}
     for name, (columns, rows) in tables.items():
         path = folder / f"{name}.csv"

@@ -19,6 +19,7 @@ Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, sect
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,7 +40,9 @@ class PathModel:
     """Quasi-static pantograph path of the analysed spans, affine in the dropper heights.
 
     Built from a form-found state and the elasticity curves of its analysed spans (computed at that
-    geometry). Heights are measured from the state's contact-wire support level.
+    geometry). Heights and depths are measured from each span's support line, the straight line
+    between the contact-wire heights at its two masts (:meth:`~presag_opt.system.catenary.Catenary.support_line`;
+    one level where the heights are all equal), so a pre-sag is the depth below that line.
 
     Attributes
     ----------
@@ -52,14 +55,15 @@ class PathModel:
     node_position : ndarray
         Position of each path point from its span's first mast. [m]
     base_height : ndarray
-        Contact-wire height at each path point in the reference geometry. [m]
+        Contact-wire height at each path point in the reference geometry, above its span's support
+        line. [m]
     sensitivity : ndarray
         ∂h/∂(dropper depth) of each path point for the analysed spans' droppers (depth positive
         downwards). [m/m]
     dropper_span, dropper_fraction : ndarray
         Span and relative position x/l of each design dropper. [-]
     reference_depth : ndarray
-        Depth of each design dropper in the reference geometry. [m]
+        Depth of each design dropper below its span's support line in the reference geometry. [m]
     dropper_length : ndarray
         Length of each design dropper in the reference geometry. [m]
     length_sensitivity : ndarray
@@ -103,6 +107,32 @@ class PathModel:
     def span_lengths(self) -> np.ndarray:
         """Length of each analysed span. [m]"""
         return self.section.span_lengths
+
+    def of_span(self, span: int) -> PathModel:
+        """The path model of one analysed span alone: its path points, its droppers, its elasticity.
+
+        A path point feels only the droppers of its own span (the masts are held at their height;
+        the sensitivities across a mast are round-off, below :data:`SENSITIVITY_CUTOFF`), so the
+        spans' designs decouple and each span can be designed on its own.
+
+        Parameters
+        ----------
+        span : int
+            One of :attr:`spans`, from 0. [-]
+        """
+        if span not in self.spans:
+            raise ModelError(f"path model: span {span} is not an analysed span ({', '.join(map(str, self.spans))})")
+        points = self.node_span == span
+        drops = self.dropper_span == span
+        section = dataclasses.replace(self.section, studies=tuple(s for s in self.section.studies if s.span == span))
+        return PathModel(
+            state=self.state, section=section, node_span=self.node_span[points],
+            node_position=self.node_position[points], base_height=self.base_height[points],
+            sensitivity=self.sensitivity[np.ix_(points, drops)], dropper_span=self.dropper_span[drops],
+            dropper_fraction=self.dropper_fraction[drops], reference_depth=self.reference_depth[drops],
+            dropper_length=self.dropper_length[drops], length_sensitivity=self.length_sensitivity[np.ix_(drops, drops)],
+            nodes=self.nodes[points],
+        )
 
     def parabola_depths(self, presag_rel: float) -> np.ndarray:
         """Dropper depths of a parabolic pre-sag S_rel·l in every analysed span. [m]
@@ -192,18 +222,22 @@ def build_path_model(state: EquilibriumState, section: SectionElasticity) -> Pat
     lengths = np.asarray(state.catenary.layout.span_lengths)[disc.dropper_span[design]]
     drop_cw = disc.axial.node_a[disc.dropper_elements[design]]
     drop_mw = disc.axial.node_b[disc.dropper_elements[design]]
-    support = state.catenary.contact_wire_height
-    # depth = support − target height, so ∂/∂depth = −∂/∂target
+    node_span, node_pos = np.concatenate(node_span), np.concatenate(node_pos)
+    cat = state.catenary
+    support = np.concatenate([cat.support_line(int(s), node_pos[node_span == s]) for s in spans])
+    drop_support = np.array([cat.support_line(int(s), np.array([x]))[0]
+                             for s, x in zip(disc.dropper_span[design], disc.dropper_position[design])])
+    # depth = support line − target height, so ∂/∂depth = −∂/∂target
     return PathModel(
         state=state,
         section=section,
-        node_span=np.concatenate(node_span),
-        node_position=np.concatenate(node_pos),
+        node_span=node_span,
+        node_position=node_pos,
         base_height=state.positions[nodes, 2] - support,
         sensitivity=-sens_all[nodes],
         dropper_span=disc.dropper_span[design],
         dropper_fraction=disc.dropper_position[design] / lengths,
-        reference_depth=support - state.positions[drop_cw, 2],
+        reference_depth=drop_support - state.positions[drop_cw, 2],
         dropper_length=state.dropper_lengths()[design],
         length_sensitivity=-(sens_all[drop_mw] - sens_all[drop_cw]),
         nodes=nodes,

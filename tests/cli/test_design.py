@@ -129,3 +129,35 @@ def test_a_band_at_or_above_the_en50119_speed_ratio_is_refused_before_any_work(t
         "presag: error: speed = 260 km/h is β = 0.75 of the contact-wire wave speed 345 km/h, at or above the "
         "EN 50119 limit β < 0.7 (speeds below 241 km/h); give --allow-supercritical to run it anyway"]
     assert not (tmp_path / "out").exists()
+
+
+def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(tmp_path):
+    # One section of four 30 m spans with the wire lowered 0.3 m at masts B2-B3 (a bridge): --rule robust sizes
+    # the inner spans 2 and 3 on their own (depths below the sloped support line), spans.csv gains each span's
+    # tolerance interval (empty for the end spans, which take the mean), and the quasi-static robust design
+    # enters the decision beside the Δe rule.
+    rows = [r for r in line_rows() if r.endswith(",B")]
+    survey = survey_file(tmp_path, rows)
+    result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--rule", "robust",
+                    "--json", *FAST, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    summary = json.loads(result.stdout)
+    methods = {summary["decision"]["chosen"]["method"], *(a["method"] for a in summary["decision"]["alternatives"])}
+    assert methods == {"quasi-static robust design", "quasi-static Δe rule"}
+    with (tmp_path / "out" / "spans.csv").open(encoding="utf-8") as handle:
+        spans = list(csv.DictReader(handle))
+    assert tuple(spans[0]) == SPAN_COLUMNS + ("presag_tolerance_low_mm", "presag_tolerance_high_mm")
+    assert spans[0]["presag_tolerance_low_mm"] == "" and spans[3]["presag_tolerance_high_mm"] == ""
+    for row in spans[1:3]:
+        low, s, high = float(row["presag_tolerance_low_mm"]), float(row["presag_mm"]), float(row["presag_tolerance_high_mm"])
+        assert low < s < high and 5.0 < s < 100.0  # a real pre-sag on 30 m, inside its own interval
+    # the end spans take the mean S_rel of the sized ones (to the CSV's 0.1 mm on 30 m)
+    mean_rel = (float(spans[1]["presag_mm"]) + float(spans[2]["presag_mm"])) / 60.0
+    assert float(spans[0]["presag_mm"]) == pytest.approx(30.0 * mean_rel, abs=0.11)
+
+
+def test_within_belongs_to_the_robust_rule(tmp_path):
+    survey = survey_file(tmp_path, [r for r in line_rows() if r.endswith(",A")])
+    result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--within", "5", cwd=tmp_path)
+    assert result.returncode == 2 and "--within is an option of --rule robust" in result.stderr
+    assert "Traceback" not in result.stderr and not (tmp_path / "out").exists()
