@@ -121,3 +121,28 @@ class StitchWire:
             clamps.append(span_length - half)
             droppers += [span_length + p for p in self.dropper_positions if p < 0.0]
         return clamps, sorted(droppers)
+
+
+def stitch_summary(catenary) -> str:
+    """One line saying whether a catenary is stitched and with what, for reports and command output.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The system.
+
+    Returns
+    -------
+    str
+        ``"simple (no stitch wires)"``, or e.g. ``"stitched: a 14 m stitch wire at 2 kN at every inner
+        mast, stitch droppers at -4, 4 m from the support"``.
+    """
+    stitch = catenary.stitch_wire
+    n_spans = catenary.layout.n_spans
+    masts = [m for m in range(n_spans + 1) if stitch is not None and stitch.at_mast(m, n_spans)]
+    if not masts:
+        return "simple (no stitch wires)"
+    where = "every inner mast" if stitch.masts is None else "masts " + ", ".join(str(m + 1) for m in masts)
+    drops = ", ".join(f"{p:g}" for p in stitch.dropper_positions)
+    return (f"stitched: a {stitch.length:g} m stitch wire at {stitch.tension * 1e-3:g} kN at {where} "
+            f"(counted from 1), stitch droppers at {drops} m from the support")

@@ -54,3 +54,17 @@ def test_clamps_and_stitch_droppers_in_each_span():
     assert stitch.points_in_span(2, 3, 60.0) == ([7.0], [3.0])
     only_first = StitchWire(**{**GOOD, "dropper_positions": (-4.0, -1.0, 3.0)}, masts=(1,))
     assert only_first.points_in_span(1, 3, 60.0) == ([7.0], [3.0])
+
+
+def test_summary_says_simple_or_stitched_and_where():
+    import dataclasses
+
+    from presag_opt.system.loader import load_catenary
+    from presag_opt.system.stitch import stitch_summary
+
+    assert stitch_summary(load_catenary("st_9.8_ideal")) == "simple (no stitch wires)"
+    stitched = load_catenary("st_9.8_stitched_ideal")
+    assert stitch_summary(stitched) == ("stitched: a 14 m stitch wire at 2 kN at every inner mast (counted from 1), "
+                                        "stitch droppers at -4, 4 m from the support")
+    some = dataclasses.replace(stitched, stitch_wire=dataclasses.replace(stitched.stitch_wire, masts=(2, 5)))
+    assert "at masts 3, 6 (counted from 1)" in stitch_summary(some)
