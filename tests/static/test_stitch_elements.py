@@ -42,3 +42,27 @@ def test_only_the_listed_masts_get_a_stitch_wire_and_node_numbers_follow_the_wir
     assert int(np.sum(some.axial.group == STITCH_WIRE)) == sum(len(c) - 1 for c in some.stitch_chains)
     # the ordinary droppers are the same in both
     assert np.count_nonzero(~some.stitch_dropper) == np.count_nonzero(~every.stitch_dropper)
+
+
+def test_a_per_dropper_design_with_stitch_droppers_builds_into_the_catenary():
+    """The robust path model's design droppers include the stitch droppers (9 per inner span of
+    st_9.8_stitched_ideal), the catenary's profile is per ordinary dropper (7): design_catenary keeps
+    the design's depths at the ordinary droppers (the profile is linear between design droppers, and
+    the ordinary droppers are design droppers, so they are met exactly)."""
+    from types import SimpleNamespace
+
+    from presag_opt.robust.dynamic_check import design_catenary
+
+    cat = load_catenary("st_9.8_stitched_ideal")
+    disc = discretise(cat)
+    span = 4
+    mine = np.flatnonzero(disc.dropper_span == span)
+    assert len(mine) == 9 and int(disc.stitch_dropper[mine].sum()) == 2
+    fraction = disc.dropper_position[mine] / 60.0
+    depths = 0.04 * np.sin(np.pi * fraction)  # any profile
+    path = SimpleNamespace(spans=(span,), dropper_span=disc.dropper_span[mine], dropper_fraction=fraction)
+    built = design_catenary(cat, path, depths)
+    ordinary = ~disc.stitch_dropper[mine]
+    for profile in built.presag_profile:
+        assert len(profile) == 7
+        assert np.allclose(profile, depths[ordinary], atol=1e-12)
