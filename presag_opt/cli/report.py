@@ -9,6 +9,8 @@ from presag_opt.cli.recommend import add_band_options, check_band_speed, operati
 from presag_opt.cli.robust import parse_within
 from presag_opt.design.band import KMH
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
+from presag_opt.system.loader import load_catenary
+from presag_opt.system.stitch import stitch_summary
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -72,11 +74,13 @@ def report_command(args: argparse.Namespace) -> int:
         "limit_speed_kmh": None if validity.limit_speed is None else validity.limit_speed / KMH,
         "validity_source": validity.source,
         "quick": result.quick,
+        "system": stitch_summary(load_catenary(result.models[0])),
     }
     if args.json:
         print_json(summary)
         return 0
     low, high = summary["tolerance_mm"]
+    print(f"System: {result.models[0]}, {summary['system']}")
     print("\n".join(decision.lines(l_ref)))
     print(f"Quasi-static tolerance {low:.0f}–{high:.0f} mm on {l_ref:g} m")
     print(f"Validity ({'stored study' if args.study else 'reduced sweep'}): {validity.text()}")

@@ -23,6 +23,7 @@ from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
+from presag_opt.system.stitch import stitch_summary
 
 DEFAULT_MODEL = "st_9.8_ideal"
 CASE_STUDY_FM_BAND = "70:148"
@@ -190,6 +191,7 @@ def robust_command(args: argparse.Namespace) -> int:
     study, plot = _study(args, catenary, shape=args.shape, risk=risk, buildability=build)
     _plot(args, study, plot)
     data = study.to_dict()
+    data["system"] = stitch_summary(catenary)
     check = None
     if args.check_speeds is not None:
         check = _dynamic_check(args, study, catenary, pantograph, window, data["reference_span_m"])
@@ -199,6 +201,7 @@ def robust_command(args: argparse.Namespace) -> int:
         return 0
     print(f"Robust pre-sag: {study.catenary_name}, F_m {data['fm_band_N'][0]:g}–{data['fm_band_N'][1]:g} N, "
           f"{data['shape']}, {data['risk']}")
+    print(f"system: {data['system']}")
     rows = [
         ("robust", data["presag_mm"], data["presag_rel_permille"], data["worst_case_waviness_mm"], data["mean_waviness_mm"]),
         ("nominal Δe at band centre", data["nominal_presag_mm"], data["nominal_presag_mm"] / data["reference_span_m"],
@@ -353,6 +356,7 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
 
         written = plot_dynamic_objective(study, plot)
     data = study.to_dict()
+    data["system"] = stitch_summary(catenary)
     print_warnings(data["warnings"])
     if args.json:
         print_json(data)
@@ -360,6 +364,7 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
     fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
     print(f"Dynamic robust pre-sag: {study.catenary_name}, {study.pantograph_name}")
+    print(f"system: {data['system']}")
     beta_low, beta_high = data["beta"]
     print(f"band: F_stat {f_low:g}–{f_high:g} N × {v_low:g}–{v_high:g} km/h (β {beta_low:.2f}–{beta_high:.2f}), "
           f"{int(points[0])} × {int(points[1])} simulated points; objective: {data['risk']} of {loss}; "

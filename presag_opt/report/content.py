@@ -37,6 +37,7 @@ from presag_opt.studies.store import open_store
 from presag_opt.studies.validity_analysis import validity_analysis
 from presag_opt.studies.validity_results import ValidityResult
 from presag_opt.system.loader import ModelEntry, load_catenary, model_entries, resolve_model_path
+from presag_opt.system.stitch import stitch_summary
 
 CASE_STUDY_PANTOGRAPH = "case_study_2mass_friction"
 """Pantograph of the case study's dynamic runs."""
@@ -258,7 +259,7 @@ def design_report(
     return DesignReport(
         models=models, pantograph=resolve_model_path(pantograph, "pantographs").stem, band=band,
         recommendation=recommendation, robust=robust, validity=validity, inputs=inputs,
-        assumptions=_assumptions(band, numerics, within, sweep_note, quick), quick=quick,
+        assumptions=_assumptions(band, numerics, within, sweep_note, quick) + _stitch_notes(catenaries), quick=quick,
         decision=report_decision(recommendation, robust, validity, band),
     )
 
@@ -349,6 +350,16 @@ def report_decision(recommendation: Recommendation, robust: RobustStudy, validit
         not_checked=("the dynamic robust design and its dynamic tolerance (presag robust --dynamic)",)
         + (() if result.beta_limit is not None else (f"the validity limit: {validity.text()}",)),
     ))
+
+
+def _stitch_notes(catenaries) -> tuple[Assumption, ...]:
+    """One entry per stitched model: what its stitch wire is and that the paper's limit is for simple catenaries."""
+    return tuple(
+        Assumption(name=f"stitch wires ({c.name})", value=stitch_summary(c),
+                   why="the paper's rule and its validity limit β = 0.4 were shown for simple catenaries; this "
+                       "report's numbers are this model's own (see docs/stitched.md for the stitched validity study)")
+        for c in catenaries if c.stitch_wire is not None
+    )
 
 
 def _reference_span(catenary) -> float:

@@ -111,7 +111,9 @@ def design_catenary(catenary: Catenary, path: PathModel, depths: np.ndarray) -> 
     The designed spans get the design's depths. Every other span gets the relative profile (depth
     over span length against x/l) of the designed span nearest to it in length, interpolated at its
     own droppers; in an ideal section, whose central span is designed, every span gets the same
-    profile.
+    profile. On a stitched catenary the stitch droppers are design droppers but the profile is per
+    ordinary dropper: a designed span gets the design's relative profile at its ordinary droppers
+    (the stitch droppers' targets then follow the profile between them, as in any stitched span).
 
     Parameters
     ----------
@@ -132,14 +134,16 @@ def design_catenary(catenary: Catenary, path: PathModel, depths: np.ndarray) -> 
     designed = {int(s): np.flatnonzero(path.dropper_span == s) for s in path.spans}
     profile = []
     for s, length in enumerate(lengths):
-        if s in designed:
+        drops = catenary.droppers.positions_in_span(length)
+        if s in designed and len(designed[s]) == len(drops):
             profile.append(tuple(depths[designed[s]]))
             continue
-        source = min(designed, key=lambda d: (abs(lengths[d] - length), d))
+        # another span, or a stitched span (its stitch droppers are design droppers but not in the
+        # profile, which is per ordinary dropper): the relative profile at the span's own droppers
+        source = s if s in designed else min(designed, key=lambda d: (abs(lengths[d] - length), d))
         idx = designed[source]
         t = np.concatenate([[0.0], path.dropper_fraction[idx], [1.0]])
         relative = np.concatenate([[0.0], depths[idx] / lengths[source], [0.0]])
-        drops = catenary.droppers.positions_in_span(length)
         profile.append(tuple(np.interp(drops / length, t, relative) * length))
     return catenary.with_presag_profile(profile)
 

@@ -1,6 +1,6 @@
 """The stitch wires of a stitched catenary as elements: nodes, cable segments and stitch droppers.
 
-:func:`add_stitch_wires` adds, at every inner mast, a chain of new nodes between the two
+:func:`add_stitch_wires` adds, at every stitched inner mast, a chain of new nodes between the two
 messenger-wire nodes at the stitch wire's clamps, one node at every contact-wire station between them
 (the contact and messenger wire share their stations, so the stitch droppers hang vertically in the
 design state). The design height of the stitch wire is the straight line between its clamps (a first
@@ -80,13 +80,16 @@ def add_stitch_wires(parts: SectionElements, cat: Catenary, stations: SectionSta
     """
     stitch = cat.stitch_wire
     empty = np.zeros(0, dtype=int)
-    if stitch is None:
+    n_spans = len(stations.mast_station) - 1
+    if stitch is None or not any(stitch.at_mast(m, n_spans) for m in range(n_spans + 1)):
         return StitchParts(positions=np.zeros((0, 3)), chains=(), masts=empty, dropper_elements=empty,
                            dropper_cw_nodes=empty)
     half = 0.5 * stitch.length
     first = len(parts.node_mass)
     positions, chains, masts, d_cw, d_st = [], [], [], [], []
-    for m in range(1, len(stations.mast_station) - 1):
+    for m in range(1, n_spans):
+        if not stitch.at_mast(m, n_spans):
+            continue
         mast = stations.mast_station[m]
         left = int(np.argmin(np.abs(stations.station - (mast - half))))
         right = int(np.argmin(np.abs(stations.station - (mast + half))))

@@ -9,7 +9,8 @@ A study file (``models/studies/*.toml``) has these sections (see ``docs/studies.
     [[parameters]] optional, repeated: name (dotted path, see presag_opt.studies.parameters) and
                    values
     [numerics]     optional: time_step, scheme, hht_alpha, element_length, analysed_spans,
-                   lead_in_spans, run_out, cutoff_frequency
+                   lead_in_spans, run_out, cutoff_frequency, numerics ("fixed", or "auto": the
+                   element length and time step of each speed, presag_opt.dynamics.numerics)
     [limits]       optional: steady_arm_uplift
 
 Every number is a ``{ value, unit, source, note }`` table, read and range-checked by the model-file
@@ -46,7 +47,7 @@ from presag_opt.system.quantity import SI_UNIT, check_value, quantity, validate_
 
 STUDY_SECTIONS = ("study", "grid", "parameters", "numerics", "limits")
 NUMERICS_KEYS = ("time_step", "scheme", "hht_alpha", "element_length", "analysed_spans", "lead_in_spans",
-                 "run_out", "cutoff_frequency")
+                 "run_out", "cutoff_frequency", "numerics")
 
 
 @dataclass(frozen=True, kw_only=True)

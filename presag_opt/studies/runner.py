@@ -207,11 +207,16 @@ def estimate_study(definition: StudyDefinition, store: str | Path, *, workers: i
         variant = definition.variant(group[0].parameter_indices)
         presag = grid.presags[group[0].presag_index]
         catenary = variant.catenary.with_presag(presag / max(variant.catenary.layout.span_lengths))
-        n_nodes, seconds = form_find_estimate(catenary, variant.settings.static)
-        nodes.append(n_nodes)
-        form_finding += seconds
-        memory = max(memory, BASE_MEMORY + FORM_FINDING_BYTES_PER_NODE * n_nodes)
+        found = set()
         for unit in group:
+            # automatic numerics: each speed's element length is its own form-finding (run_units)
+            static = variant.settings.for_speed(grid.speeds[unit.speed_index], catenary.contact_wire.wave_speed).static
+            n_nodes, seconds = form_find_estimate(catenary, static)
+            if static not in found:
+                found.add(static)
+                nodes.append(n_nodes)
+                form_finding += seconds
+                memory = max(memory, BASE_MEMORY + FORM_FINDING_BYTES_PER_NODE * n_nodes)
             plan = plan_run(catenary, variant.pantograph, speed=grid.speeds[unit.speed_index],
                             static_force=grid.static_forces[0], aero_coefficient=grid.aero_coefficient,
                             settings=variant.settings)

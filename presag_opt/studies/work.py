@@ -25,9 +25,10 @@ from presag_opt.contact_force import mean_contact_force
 from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.dynamics.batch import simulate_many
-from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
+from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.speed import speed_ratio
+from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.studies.definition import StudyDefinition
@@ -208,6 +209,13 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
     n = len(grid.static_forces)
     nan = (math.nan,) * n
     speeds = [grid.speeds[u.speed_index] for u in units]
+    statics = [variant.settings.for_speed(v, catenary.contact_wire.wave_speed).static for v in speeds]
+    if len(set(statics)) > 1:  # automatic numerics: one form-found state per element length
+        groups: dict[Any, list[WorkUnit]] = {}
+        for unit, static in zip(units, statics):
+            groups.setdefault(static, []).append(unit)
+        done = {r.unit: r for group in groups.values() for r in run_units(definition, group)}
+        return [done[u] for u in units]
     bases = [{"unit": u, "speed_ratio": speed_ratio(v, catenary.contact_wire.wave_speed)} for u, v in zip(units, speeds)]
 
     def failed(reason: str) -> list[UnitResult]:
@@ -215,7 +223,7 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
                            failure=(reason,) * n, rule_failure=reason) for base in bases]
 
     try:
-        state, section = _form_found(definition, catenary, variant.settings)
+        state, section = _form_found(definition, catenary, statics[0])
     except Exception as exc:  # noqa: BLE001 - recorded as the reason: one unit must not stop a study
         return failed(f"form-finding: {failure_reason(exc)}")
     points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=grid.aero_coefficient)
@@ -276,19 +284,20 @@ def _force_levels(definition: StudyDefinition) -> tuple[float, ...]:
 
 
 def _form_found(
-    definition: StudyDefinition, catenary: Catenary, settings: SimulationSettings
+    definition: StudyDefinition, catenary: Catenary, static: StaticSettings
 ) -> tuple[EquilibriumState, SectionElasticity | str]:
-    """The form-found state and its elasticity curves (or why they failed), cached in this process.
+    """The form-found state at the static settings ``static`` (the element length of the unit's
+    speeds) and its elasticity curves (or why they failed), cached in this process.
 
     A failing form-finding raises (every run of the unit fails); failing elasticity only leaves the
     rules undefined, so its reason is returned in place of the curves.
     """
-    key = (catenary, settings.static, _force_levels(definition))
+    key = (catenary, static, _force_levels(definition))
     with _CACHE_LOCK:
         if key in _CACHE:
             _CACHE.move_to_end(key)
             return _CACHE[key]
-    state = form_find(catenary, settings.static)
+    state = form_find(catenary, static)
     try:
         section: SectionElasticity | str = section_elasticity(state, force_levels=key[2])
     except (ConvergenceError, ModelError) as exc:

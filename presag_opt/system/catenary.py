@@ -191,9 +191,16 @@ class Catenary:
                 f"{most * 1e-3:g}] kN: at most half the messenger-wire tension, which between the stitch wire's "
                 "clamps carries its own tension less the stitch wire's"
             )
+        n = self.layout.n_spans
+        if self.stitch_wire.masts is not None and self.stitch_wire.masts[-1] > n - 1:
+            raise ModelError(f"stitch_wire.masts = {list(self.stitch_wire.masts)}: mast {self.stitch_wire.masts[-1]} is "
+                             f"not an inner mast of the {n} spans (valid: 1 to {n - 1})")
         for s, length in enumerate(self.layout.span_lengths):
             drops = self.droppers.positions_in_span(length)
-            room = min(drops[0], length - drops[-1])
+            ends = [d for d, m in ((drops[0], s), (length - drops[-1], s + 1)) if self.stitch_wire.at_mast(m, n)]
+            if not ends:
+                continue
+            room = min(ends)
             if half > room + 1e-9:
                 raise ModelError(
                     f"stitch_wire.length = {self.stitch_wire.length:g} m is outside the valid range (0, {2 * room:g}] m "

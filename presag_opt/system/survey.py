@@ -15,7 +15,14 @@ Columns (the unit is in each name; the order is free):
 ``steady_arm``              ``pull-off`` (arm in tension) or ``push-off`` (arm in compression)
 ``section``                 optional: tension-section id (default: one section); a section's masts are
                             consecutive rows
+``stitched``                optional: whether the support carries a stitch wire: ``yes``/``no``,
+                            ``true``/``false`` or ``1``/``0`` (any case; empty: not given). The stitch
+                            wire is the system file's ``[stitch_wire]``; the end masts of a section are
+                            never stitched in the model (a ``yes`` there is read but not modelled)
 ==========================  ===========================================================================
+
+Without a ``stitched`` value in a section, the system decides (a stitched system file: a stitch wire
+at every inner mast); with one, exactly the masts marked ``yes`` are stitched (unmarked masts are not).
 
 Spans between consecutive masts of the same section belong to it; a span between masts of two
 sections is an overlap span, which is not modelled (each section is designed on its own, with
@@ -44,12 +51,13 @@ from presag_opt.system.masts import (
     SYSTEM_HEIGHT_RANGE,
     MastGeometry,
 )
+from presag_opt.system.survey_stitch import section_stitch_wire, stitched_value
 
 COLUMNS = ("mast", "chainage_m", "stagger_mm", "contact_wire_height_m", "system_height_m", "curve_radius_m",
            "steady_arm")
 """Required columns of a survey table."""
 
-OPTIONAL_COLUMNS = ("section",)
+OPTIONAL_COLUMNS = ("section", "stitched")
 """Optional columns of a survey table."""
 
 DEFAULT_WORKING_WIDTH = 0.40
@@ -63,6 +71,7 @@ SPAN_LENGTH_RANGE = (5.0, 120.0)
 
 DEFAULT_SECTION = "1"
 """Section id of a table without a ``section`` column."""
+
 
 
 class SurveyError(ModelError):
@@ -91,6 +100,8 @@ class SurveyMast:
         ``pull-off`` or ``push-off``.
     section : str
         Tension-section id.
+    stitched : bool or None
+        Whether the support carries a stitch wire; None: not given (the system decides).
     row : str
         Where the mast was read (``file, row n``), for messages.
     """
@@ -103,6 +114,7 @@ class SurveyMast:
     curve_radius: float
     steady_arm: str
     section: str = DEFAULT_SECTION
+    stitched: bool | None = None
     row: str = ""
 
     def __post_init__(self) -> None:
@@ -212,6 +224,9 @@ def section_catenary(base: Catenary, section: SurveySection, label: str = "") ->
         Layout label (e.g. the survey file).
     """
     geometry = section.mast_geometry()
+    stitch, problem = section_stitch_wire(base, section.masts)
+    if problem:
+        raise SurveyError(problem)
     layout = SpanLayout(span_lengths=section.span_lengths, curve_radii=section.curve_radii,
                         label=label or f"surveyed section {section.section}")
     return dataclasses.replace(
@@ -222,6 +237,7 @@ def section_catenary(base: Catenary, section: SurveySection, label: str = "") ->
         stagger=min(0.5, max(abs(s) for s in geometry.stagger)),
         contact_wire_height=geometry.contact_wire_height[0],
         system_height=min(geometry.system_height),
+        stitch_wire=stitch,
     )
 
 
@@ -396,6 +412,8 @@ def _parse_row(label: str, row: Mapping[str, object]) -> tuple[dict, list[str]]:
             continue
         out[name] = number * factor
     out["steady_arm"] = "" if row["steady_arm"] is None else str(row["steady_arm"]).strip().lower()
+    out["stitched"], stitched_error = stitched_value(label, row.get("stitched"))
+    errors += stitched_error
     section = row.get("section")
     out["section"] = DEFAULT_SECTION if section is None or str(section).strip() == "" else _id_text(section)
     return out, errors

@@ -1,4 +1,5 @@
-"""Stitch wires in the system model: validation, model files, discretisation and form-finding."""
+"""Stitch wires in the system model: catenary-level limits, model files and form-finding (the input
+checks of StitchWire are in tests/system/test_stitch.py, its elements in tests/static/test_stitch_elements.py)."""
 
 from __future__ import annotations
 
@@ -9,10 +10,8 @@ import pytest
 
 from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import (
-    DROPPER,
     MESSENGER_WIRE,
     STITCH_WIRE,
-    discretise,
 )
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.loader import (
@@ -31,19 +30,6 @@ GOOD = {"length": 14.0, "tension": 2000.0, "mass_per_length": 0.31, "axial_stiff
 def stitched():
     """Form-found ST 9,8/9,8 stitched section."""
     return form_find(load_catenary("st_9.8_stitched_ideal"))
-
-
-@pytest.mark.parametrize(("change", "message"), [
-    ({"tension": 30e3}, "tension = 30 kN is outside the valid range [0.1, 20] kN"),
-    ({"length": 50.0}, "length = 50 m is outside the valid range [2, 40] m"),
-    ({"axial_stiffness": 1e3}, "axial_stiffness = 0.001 MN is outside the valid range [0.1, 100] MN"),
-    ({"dropper_positions": (-2.0, 8.0)}, "dropper_positions[1] = 8 m is outside the valid range"),
-    ({"dropper_positions": (2.0, -2.0)}, "must be strictly increasing"),
-    ({"dropper_positions": (0.0,)}, "not at the support"),
-])
-def test_bad_stitch_wire_input_names_field_value_unit_and_range(change, message):
-    with pytest.raises(ModelError, match=message.replace("[", r"\[").replace("(", r"\(")):
-        StitchWire(**{**GOOD, **change})
 
 
 def test_catenary_refuses_a_stitch_wire_that_reaches_past_the_first_droppers_or_outpulls_the_messenger():
@@ -70,26 +56,6 @@ def test_stitched_model_files_load_with_provenance(name):
     assert cat.stitch_wire is not None
     for key in ("length", "tension", "mass_per_length", "axial_stiffness", "dropper_positions"):
         assert cat.provenance[f"stitch_wire.{key}"].source in ("assumed", "secondary-source", "paper", "standard")
-
-
-def test_discretisation_has_a_stitch_wire_at_every_inner_mast_with_its_droppers():
-    cat = load_catenary("st_9.8_stitched_ideal")
-    disc = discretise(cat)
-    inner_masts = cat.layout.n_spans - 1
-    assert len(disc.stitch_chains) == inner_masts
-    assert int(disc.stitch_dropper.sum()) == inner_masts * len(cat.stitch_wire.dropper_positions)
-    assert np.all(disc.axial.group[disc.dropper_elements] == DROPPER)
-    for m, chain in zip(range(1, cat.layout.n_spans), disc.stitch_chains):
-        # its ends are the messenger-wire nodes at the clamps, half the stitch length from the mast
-        assert np.all(np.isin(chain[[0, -1]], disc.mw_nodes)) and not np.any(np.isin(chain[1:-1], disc.mw_nodes))
-        ends = disc.design_positions[chain[[0, -1]], 0]
-        assert np.allclose(ends - disc.mast_station[m], [-7.0, 7.0], atol=1e-9)
-    stations = disc.mast_station[disc.dropper_span] + disc.dropper_position
-    assert np.all(np.diff(stations) > 0.0)  # along-track order, stitch droppers among the others
-    rel = (stations[disc.stitch_dropper][:, None] - disc.mast_station[None, 1:-1])
-    assert np.allclose(np.sort(np.abs(rel).min(axis=1)), 4.0, atol=1e-9)
-    n_segments = sum(len(c) - 1 for c in disc.stitch_chains)
-    assert int(np.sum(disc.axial.group == STITCH_WIRE)) == n_segments
 
 
 def test_form_finding_meets_the_simple_catenary_tolerances_and_the_stitch_tension(stitched):
