@@ -108,7 +108,13 @@ class DynamicRobustEvaluator:
     within: float = 0.10
 
     def study(self, row: np.ndarray):
-        """The :class:`~presag_opt.robust.dynamic_study.DynamicRobustStudy` of one row (SI inputs)."""
+        """The :class:`~presag_opt.robust.dynamic_study.DynamicRobustStudy` of one row.
+
+        Parameters
+        ----------
+        row : ndarray, shape (k,)
+            The sample's input values, in the order of :attr:`names`. [SI units of the inputs]
+        """
         from presag_opt.robust.dynamic_design import SearchSettings
         from presag_opt.robust.dynamic_study import dynamic_robust_study
         from presag_opt.studies.reduced import central_spans

@@ -89,7 +89,19 @@ class Reuse:
         return value, False
 
     def layout(self, catenary: Catenary, band: OperatingBand, levels: tuple[float, ...], step: float):
-        """The layout recommendation of ``catenary`` over ``band`` (computed, or the one kept)."""
+        """The layout recommendation of ``catenary`` over ``band`` (computed, or the one kept).
+
+        Parameters
+        ----------
+        catenary : Catenary
+            The layout (form-found here at :data:`SAMPLE_SETTINGS` unless kept).
+        band : OperatingBand
+            The operating band. [N], [m/s]
+        levels : tuple of float
+            Force levels of the elasticity curves. [N]
+        step : float
+            Point spacing of the elasticity curves. [m]
+        """
         key = pickle.dumps(catenary)
 
         def state():
