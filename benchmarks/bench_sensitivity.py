@@ -1,13 +1,15 @@
-"""Benchmark of ``presag sensitivity`` (issue 22). Run: python benchmarks/bench_sensitivity.py [--part P] [--save DIR]
+"""Benchmark of ``presag sensitivity`` (issue 22). Run from the repository root:
+``python benchmarks/bench_sensitivity.py`` times part 1 (``--part dynamic`` or ``all`` for more).
 
 1. Morris screening of the case-study recommendation over all its assumed inputs, r = 10
-   trajectories (target <= 10 min on this 2-core machine).
+   trajectories, 2 worker processes (target <= 10 min on an idle 2-core machine).
 2. Morris on σ and σ/F_m at 50 and 90 km/h (case-study pre-sag 30 mm, F_stat 120 N, reduced numerics:
    5 spans, 1 m elements, 4 ms) over the pantograph's assumed inputs and the structural damping
    ratio, r = 10 (target <= 20 min).
 
-Prints the cost of one evaluation (the first, alone), the total wall time, the load average before
-and after (the figures depend on what else the machine runs) and the ranked tables; ``--save DIR``
+Prints the cost of one evaluation (the first, alone), the total wall time, the CPU time of this
+process and its workers (on a busy machine, CPU time / workers is what the wall time would be on an
+idle one), the load average before and after and the ranked tables; ``--save DIR``
 writes each result as JSON (``sensitivity_recommendation.json``, ``sensitivity_dynamic.json``).
 """
 
@@ -16,7 +18,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import sys
+import time
 from pathlib import Path
 
 from _targets import Targets
@@ -31,9 +35,15 @@ PARTS = {
 }
 
 
+def _cpu_seconds() -> float:
+    """User + system CPU time of this process and of its finished child processes (the workers). [s]"""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=[*PARTS, "all"], default="all")
+    parser.add_argument("--part", choices=[*PARTS, "all"], default="recommendation")
     parser.add_argument("--trajectories", type=int, default=10)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--save", type=Path, default=None)
@@ -44,12 +54,16 @@ def main() -> int:
         if args.part not in (name, "all"):
             continue
         print(f"{name}: load average before {os.getloadavg()}", flush=True)
+        cpu_before, wall_before = _cpu_seconds(), time.perf_counter()
         result = sensitivity_analysis(
             output=part["output"], inputs=part["inputs"], method="morris", samples=args.trajectories, seed=0,
             workers=args.workers, out=args.out, announce=lambda text: print(f"  {text}", flush=True),
             progress=lambda done, total: print(f"  {done}/{total}", file=sys.stderr, flush=True))
+        wall, cpu = time.perf_counter() - wall_before, _cpu_seconds() - cpu_before
         print(f"{name}: {len(result.inputs)} inputs, {result.evaluations} evaluations, one evaluation "
               f"{result.seconds_first:.1f} s, total {result.seconds:.0f} s; load average after {os.getloadavg()}")
+        print(f"{name}: wall time {wall:.1f} s = {wall / 60:.2f} min; CPU time (this process and its workers) "
+              f"{cpu:.0f} s, i.e. {cpu / args.workers / 60:.2f} min per worker")
         for table in result.indices:
             print(f"  {table.output} [{table.unit}] mean {table.mean:.4g}, std {table.std:.3g}")
             for e in table.morris:

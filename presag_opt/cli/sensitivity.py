@@ -27,12 +27,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "output: Morris elementary effects (mu*, sigma) to screen, Sobol indices (S1, ST with bootstrap "
             "confidence intervals) to quantify. Outputs: recommendation, robust (quasi-static); "
             "dynamic:V1,V2 (sigma and sigma/F_m at those km/h), minima:V (do the sigma/F_m minima move with S), "
-            "validity:V1,V2,... (beta*), run as reduced studies (5 spans, 1 m, 4 ms)."
+            "validity:V1,V2,... (beta*), run as reduced studies (5 spans, 1 m, 4 ms); dynamic-robust (the dynamic "
+            "robust pre-sag of presag robust --dynamic over F_stat 70-140 N x 50-90 km/h and its tolerance, each "
+            "sample one design at screening numerics)."
         ),
     )
     p.add_argument("case", nargs="?", default=DEFAULT_CASE, help=f"case file or built-in name (default {DEFAULT_CASE})")
     p.add_argument("--output", required=True, metavar="OUTPUT",
-                   help="recommendation | robust | dynamic:V1,V2 | minima:V | validity:V1,V2,... (speeds in km/h)")
+                   help="recommendation | robust | dynamic-robust | dynamic:V1,V2 | minima:V | validity:V1,V2,... "
+                        "(speeds in km/h)")
     p.add_argument("--method", choices=["morris", "sobol", "spread"], default="morris",
                    help="morris (screen), sobol (S1, ST) or spread (the output's mean and spread only)")
     p.add_argument("--inputs", metavar="NAME,...", default=None,
@@ -44,7 +47,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the design and bootstrap (default 0)")
     p.add_argument("--workers", metavar="N", type=int, default=1, help="local worker processes (default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                   help="Dask distributed scheduler for dynamic outputs (e.g. tcp://host:8786)")
+                   help="Dask distributed scheduler to run the evaluations on (e.g. tcp://host:8786)")
     p.add_argument("--out", metavar="STORE", default=None,
                    help="folder of the resumable stores (a killed analysis resumes from it)")
     p.add_argument("--plot", metavar="DIR", default=None, help="save the Morris or Sobol figures into this folder")
@@ -59,8 +62,6 @@ def sensitivity_command(args: argparse.Namespace) -> int:
 
     if args.scheduler is not None and args.workers != 1:
         raise ModelError("give either --workers or --scheduler, not both")
-    if args.scheduler is not None and args.output.split(":", 1)[0] in ("recommendation", "robust"):
-        raise ModelError(f"--scheduler runs dynamic outputs only; {args.output} runs in local worker processes")
     plot = output_folder(args.plot, "--plot") if args.plot else None
     out = output_folder(args.out, "--out") if args.out else None
     show = progress_enabled(args)

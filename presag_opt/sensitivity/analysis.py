@@ -14,7 +14,10 @@ Outputs (``output``):
   installation tolerance (10 % loss);
 - ``dynamic:V1,V2,…`` (km/h): σ and σ/F_m at the case's pre-sag and static force at each speed;
 - ``minima:V`` (km/h): whether σ/F_m has distinct minima over F_m that move with S at that speed;
-- ``validity:V1,V2,…`` (km/h): β* of a reduced validity study over those speeds.
+- ``validity:V1,V2,…`` (km/h): β* of a reduced validity study over those speeds;
+- ``dynamic-robust``: the dynamic robust pre-sag of the band F_stat 70–140 N × 50–90 km/h (the design
+  of ``presag robust --dynamic``, at screening numerics) and its installation tolerance
+  (:mod:`presag_opt.sensitivity.dynamic_robust`); each sample is one task in worker processes or on Dask.
 """
 
 from __future__ import annotations
@@ -37,6 +40,11 @@ from presag_opt.sensitivity.dynamic import (
     Resolution,
     base_study,
     run_definitions,
+)
+from presag_opt.sensitivity.dynamic_robust import (
+    DYNAMIC_ROBUST_VALUES,
+    DynamicRobustEvaluator,
+    ScreeningNumerics,
 )
 from presag_opt.sensitivity.inputs import (
     SPAN_LIST,
@@ -68,7 +76,9 @@ METHODS = ("morris", "sobol", "spread")
 
 QUASI_STATIC = ("recommendation", "robust")
 DYNAMIC = ("dynamic", "minima", "validity")
-OUTPUT_NAMES = (*QUASI_STATIC, *(f"{k}:SPEEDS" for k in DYNAMIC))
+PER_SAMPLE = ("dynamic-robust",)
+"""Outputs whose samples run as one task each (:func:`~presag_opt.sensitivity.methods.evaluate_rows`)."""
+OUTPUT_NAMES = (*QUASI_STATIC, *PER_SAMPLE, *(f"{k}:SPEEDS" for k in DYNAMIC))
 """Output names as the command line takes them."""
 
 
@@ -146,7 +156,7 @@ def parse_output(text: str) -> tuple[str, tuple[float, ...]]:
         For an unknown output or a malformed speed list.
     """
     kind, sep, rest = text.partition(":")
-    if kind in QUASI_STATIC and not sep:
+    if kind in (*QUASI_STATIC, *PER_SAMPLE) and not sep:
         return kind, ()
     if kind not in DYNAMIC or not sep:
         raise ModelError(f"--output {text!r} is not one of {', '.join(OUTPUT_NAMES)} (SPEEDS in km/h, e.g. dynamic:50,90)")
@@ -167,7 +177,7 @@ def _roots(case: SimulationCase, kind: str) -> tuple[dict, dict]:
                                                                   "operation": case.provenance}
     roots = {"catenary": case.catenary, "operation": case.operation}
     provenance = {"catenary": case.catenary.provenance, "operation": case.provenance}
-    if kind in DYNAMIC:
+    if kind in DYNAMIC or kind in PER_SAMPLE:
         roots["pantograph"] = case.pantograph
         provenance["pantograph"] = case.pantograph.provenance
     return roots, provenance
@@ -200,6 +210,7 @@ def sensitivity_analysis(
     scheduler: str | None = None,
     out: str | Path | None = None,
     resolution: Resolution | None = None,
+    numerics: ScreeningNumerics | None = None,
     announce: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> SensitivityResult:
@@ -232,6 +243,9 @@ def sensitivity_analysis(
         evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
     resolution : Resolution, optional
         Numerics of dynamic outputs (default: a :class:`~presag_opt.sensitivity.dynamic.Resolution` with its defaults).
+    numerics : ScreeningNumerics, optional
+        Numerics of the ``dynamic-robust`` output (default: a
+        :class:`~presag_opt.sensitivity.dynamic_robust.ScreeningNumerics` with its defaults).
     announce : callable, optional
         Called once with the cost estimate (first evaluation × evaluations / workers).
     progress : callable, optional
@@ -274,21 +288,35 @@ def sensitivity_analysis(
     names = tuple(i.name for i in chosen)
 
     start = time.perf_counter()
-    if kind in QUASI_STATIC:
-        value_names = RECOMMENDATION_VALUES if kind == "recommendation" else ROBUST_VALUES
+    if announce:
+        what = {"dynamic-robust": "one dynamic robust design (about 5 pre-sags x 12 runs) each"}.get(
+            kind, "one " + ("quasi-static evaluation" if kind in QUASI_STATIC else "reduced study") + " each")
+        announce(f"{len(rows)} evaluations of {output}, {what}; timing the first one to estimate the cost")
+    if kind in QUASI_STATIC or kind in PER_SAMPLE:
         if kind == "recommendation":
+            value_names = RECOMMENDATION_VALUES
             evaluator = RecommendationEvaluator(ideal=load_catenary(CASE_STUDY_MODELS[0]), mixed=roots["catenary"],
                                                 names=names)
-        else:
+        elif kind == "robust":
+            value_names = ROBUST_VALUES
             evaluator = RobustEvaluator(catenary=case.catenary, names=names)
+        else:
+            value_names = DYNAMIC_ROBUST_VALUES
+            numerics = numerics or ScreeningNumerics()
+            evaluator = DynamicRobustEvaluator(catenary=case.catenary, pantograph=case.pantograph,
+                                               operation=case.operation, names=names, numerics=numerics)
         with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
             folder = Path(out) if out is not None else Path(scratch)
             store = folder / f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}"
             evaluate_rows(evaluator, rows[:1], store=store)  # alone: its time is the cost announced
             seconds_first = time.perf_counter() - start
             _announce(announce, len(rows), seconds_first, workers)
-            values = evaluate_rows(evaluator, rows, workers=workers, progress=progress, store=store)
-        text = ""
+            # half a Morris trajectory in one process: its steps in α_ae and the span list reuse form-findings
+            # (halves, not whole trajectories, keep the two workers' last tasks short)
+            chunk = max(1, (len(chosen) + 1) // 2) if method == "morris" and kind == "recommendation" else 1
+            values = evaluate_rows(evaluator, rows, workers=workers, scheduler=scheduler, chunk=chunk,
+                                   progress=progress, store=store)
+        text = numerics.text() if kind in PER_SAMPLE else ""
     else:
         resolution = resolution or Resolution()
         spec = DynamicOutput(kind=kind, speeds=speeds, resolution=resolution)

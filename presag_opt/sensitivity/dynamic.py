@@ -249,16 +249,11 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
 
 def _run_dask(definitions, tasks, address: str, collect) -> None:
     """The tasks on a Dask distributed cluster (as :func:`presag_opt.studies.runner.run_study` does)."""
-    try:
-        from distributed import Client
+    from presag_opt.sensitivity.methods import dask_client
+
+    with dask_client(address) as client:
         from distributed import as_completed as dask_completed
-    except ImportError:
-        raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
-    try:
-        client = Client(str(address), timeout="20s")
-    except (OSError, TimeoutError) as exc:
-        raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
-    with client:
+
         futures = {client.submit(run_units, definitions[i], group, pure=False): i for i, group in tasks}
         try:
             for future in dask_completed(list(futures)):

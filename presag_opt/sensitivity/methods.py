@@ -25,7 +25,6 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from SALib.analyze import morris as morris_analyze
@@ -239,8 +238,9 @@ def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndic
 
 
 def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray, *, workers: int = 1,
+                  scheduler: str | None = None, chunk: int = 1,
                   progress: Callable[[int, int], None] | None = None, store: Path | None = None) -> np.ndarray:
-    """Evaluate ``function`` at every row, in worker processes, results in row order.
+    """Evaluate ``function`` at every row, in worker processes or on a Dask cluster, results in row order.
 
     Parameters
     ----------
@@ -250,8 +250,13 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
         Input values. [SI units of the inputs]
     workers : int
         Processes; 1 runs here. [-]
+    scheduler : str, optional
+        Address of a Dask distributed scheduler to run the rows on instead of local processes.
+    chunk : int
+        Rows ``chunk·j … chunk·(j + 1) − 1`` run as one task, one after the other in one process, so
+        that an evaluator can reuse work between consecutive rows (a Morris trajectory: ``k + 1``). [-]
     progress : callable, optional
-        Called with (done, total) after each evaluation.
+        Called with (done, total) after each task.
     store : Path, optional
         Folder keeping each finished evaluation (``row_NNNNN.json``, written atomically); a rerun
         reads them back instead of computing. A file whose row differs from the design is refused.
@@ -263,6 +268,8 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
     """
     if not 1 <= workers <= 1024:
         raise ModelError(f"workers = {workers} is outside the valid range [1, 1024]")
+    if not 1 <= chunk <= max(1, len(rows)):
+        raise ModelError(f"chunk = {chunk} is outside the valid range [1, {max(1, len(rows))}] rows")
     results: list[np.ndarray | None] = [None] * len(rows)
     if store is not None:
         store.mkdir(parents=True, exist_ok=True)
@@ -274,27 +281,83 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
                     raise ModelError(f"{path}: holds another design's evaluation; use another --out folder")
                 results[i] = np.array(saved["values"], dtype=float)
     pending = [i for i, r in enumerate(results) if r is None]
+    tasks: dict[int, list[int]] = {}
+    for i in pending:
+        tasks.setdefault(i // chunk, []).append(i)
+    done = len(rows) - len(pending)
 
-    def finish(i: int, value: Any, done: int) -> None:
-        results[i] = np.atleast_1d(np.asarray(value, dtype=float))
-        if store is not None:
-            write_atomic(store / f"row_{i:05d}.json",
-                         json.dumps({"row": [float(v) for v in rows[i]], "values": results[i].tolist()}).encode())
+    def finish(indices: list[int], values: list) -> None:
+        nonlocal done
+        for i, value in zip(indices, values):
+            results[i] = np.atleast_1d(np.asarray(value, dtype=float))
+            if store is not None:
+                write_atomic(store / f"row_{i:05d}.json",
+                             json.dumps({"row": [float(v) for v in rows[i]], "values": results[i].tolist()}).encode())
+        done += len(indices)
         if progress:
             progress(done, len(rows))
 
-    done = len(rows) - len(pending)
-    if workers == 1 or len(pending) <= 1:
-        for i in pending:
-            done += 1
-            finish(i, function(rows[i]), done)
+    batches = [(indices, rows[indices]) for indices in tasks.values()]
+    if scheduler is not None:
+        _run_dask(function, batches, scheduler, finish)
+    elif workers == 1 or len(batches) <= 1:
+        for indices, block in batches:
+            finish(indices, evaluate_block(function, block))
     else:
-        with worker_pool(min(workers, len(pending)), WorkerPolicy.PICKLED) as pool:
-            futures = {pool.submit(function, rows[i]): i for i in pending}
+        with worker_pool(min(workers, len(batches)), WorkerPolicy.PICKLED) as pool:
+            futures = {pool.submit(evaluate_block, function, block): indices for indices, block in batches}
             for future in as_completed(futures):
-                done += 1
-                finish(futures[future], future.result(), done)
+                finish(futures[future], future.result())
     return np.vstack(results) if len(rows) else np.zeros((0, 0))
+
+
+def evaluate_block(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray) -> list[np.ndarray]:
+    """``function`` at each row, in order, in this process (one task of :func:`evaluate_rows`).
+
+    Parameters
+    ----------
+    function : callable
+        Maps one row to a 1-D array of outputs.
+    rows : ndarray, shape (n, k)
+        Input values. [SI units of the inputs]
+    """
+    return [np.asarray(function(row), dtype=float) for row in rows]
+
+
+def dask_client(address: str):
+    """A Dask distributed client of the scheduler at ``address`` (one clear line if it cannot connect).
+
+    Parameters
+    ----------
+    address : str
+        Scheduler address, e.g. ``tcp://host:8786``.
+
+    Raises
+    ------
+    ModelError
+        Dask distributed is not installed, or the scheduler does not answer within 20 s.
+    """
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
+    try:
+        return Client(str(address), timeout="20s")
+    except (OSError, TimeoutError) as exc:
+        raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
+
+
+def _run_dask(function, batches, address: str, finish) -> None:
+    """The tasks on a Dask distributed cluster."""
+    from distributed import as_completed as dask_completed
+
+    with dask_client(address) as client:
+        futures = {client.submit(evaluate_block, function, block, pure=False): indices for indices, block in batches}
+        try:
+            for future in dask_completed(list(futures)):
+                finish(futures[future], future.result())
+        finally:
+            client.cancel(list(futures))
 
 
 def _check_finite(output: str, values: np.ndarray, rows: np.ndarray, inputs: Sequence[SensitivityInput]) -> None:

@@ -8,7 +8,9 @@ processes (:func:`presag_opt.sensitivity.methods.evaluate_rows`).
 from __future__ import annotations
 
 import dataclasses
+import pickle
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +20,7 @@ from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import section_elasticity
 from presag_opt.sensitivity.inputs import SPAN_LIST, apply_inputs
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 SAMPLE_SETTINGS = StaticSettings(geometry_tolerance=0.5e-3)
@@ -46,6 +49,84 @@ def _catenary_with(catenary: Catenary, names: tuple[str, ...], row: np.ndarray, 
     values = {n: float(v) for n, v in zip(names, row)
               if n.startswith("catenary.") and (span_list or n != SPAN_LIST)}
     return apply_inputs({"catenary": catenary}, values)["catenary"]
+
+
+class Reuse:
+    """What one process keeps between consecutive samples: the last few form-found states (keyed by
+    the catenary) and layout recommendations (keyed by catenary and band).
+
+    Consecutive points of a Morris trajectory change one input each: a step in α_ae leaves both
+    catenaries as they were (their form-finding is reused, only the elasticity at the band's new force
+    levels is computed), a step in the span list leaves the ideal layout as it was (reused whole). A
+    reused result is the very object computed before, so the outputs do not change at all.
+
+    Parameters
+    ----------
+    size : int
+        Entries kept of each kind (least recently used dropped first). [-]
+
+    Attributes
+    ----------
+    hits, misses : int
+        Form-findings reused and computed. [-]
+    """
+
+    def __init__(self, size: int = 4):
+        self.size = size
+        self.states: OrderedDict[bytes, object] = OrderedDict()
+        self.layouts: OrderedDict[bytes, object] = OrderedDict()
+        self.hits = 0
+        self.misses = 0
+
+    def _get(self, table: OrderedDict, key: bytes, make):
+        if key in table:
+            table.move_to_end(key)
+            return table[key], True
+        value = make()
+        table[key] = value
+        while len(table) > self.size:
+            table.popitem(last=False)
+        return value, False
+
+    def layout(self, catenary: Catenary, band: OperatingBand, levels: tuple[float, ...], step: float):
+        """The layout recommendation of ``catenary`` over ``band`` (computed, or the one kept).
+
+        Parameters
+        ----------
+        catenary : Catenary
+            The layout (form-found here at :data:`SAMPLE_SETTINGS` unless kept).
+        band : OperatingBand
+            The operating band. [N], [m/s]
+        levels : tuple of float
+            Force levels of the elasticity curves. [N]
+        step : float
+            Point spacing of the elasticity curves. [m]
+        """
+        key = pickle.dumps(catenary)
+
+        def state():
+            return form_find(catenary, SAMPLE_SETTINGS)
+
+        def make():
+            found, reused = self._get(self.states, key, state)
+            self.hits += reused
+            self.misses += not reused
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # the uplift and speed notes are not outputs here
+                section = section_elasticity(found, force_levels=levels, step=step, elasticity_method="active-set")
+                return layout_recommendation(section, band)
+
+        return self._get(self.layouts, pickle.dumps((key, band, levels, step)), make)[0]
+
+    def clear(self) -> None:
+        """Forget everything kept (and the counts)."""
+        self.states.clear()
+        self.layouts.clear()
+        self.hits = self.misses = 0
+
+
+REUSE = Reuse()
+"""This process's :class:`Reuse` (each worker process has its own)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,11 +160,7 @@ class RecommendationEvaluator:
         ends = []
         for catenary, span_list in ((self.ideal, False), (self.mixed, True)):
             cat = _catenary_with(catenary, self.names, row, span_list=span_list)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # the uplift and speed notes are not outputs here
-                section = section_elasticity(cat, force_levels=levels, step=self.step, elasticity_method="active-set",
-                                             settings=SAMPLE_SETTINGS)
-                lay = layout_recommendation(section, band)
+            lay = REUSE.layout(cat, band, tuple(levels), self.step)
             ends += list(lay.presag_rel_range)
             means.append(float(np.mean(lay.presag_rel_range)))
         return np.array([means[0] * 1e3, means[1] * 1e3, float(np.mean(ends)) * 1e3, means[1] / means[0]])

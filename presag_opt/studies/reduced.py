@@ -75,25 +75,39 @@ def reduced_study(
     """
     if base.parameters:
         raise ModelError("reduced_study: the base study sweeps extra parameters; reduce a study without them")
-    catenary = catenary or base.catenary
-    lengths = catenary.layout.span_lengths
-    if span_count < 4:
-        raise ModelError(f"span_count = {span_count} is below the smallest valid value 4")
-    first = max(0, (len(lengths) - span_count) // 2)
-    kept = lengths[first:first + span_count]
-    radii = catenary.layout.radii[first:first + span_count]
-    layout = SpanLayout(span_lengths=kept, curve_radii=radii if any(radii) else None,
-                        label=f"{len(kept)} central spans of: {catenary.layout.label or catenary.name}")
+    catenary = central_spans(catenary or base.catenary, span_count)
+    kept = catenary.layout.span_lengths
     settings = dataclasses.replace(base.settings.with_fixed_numerics(element_length=element_length, time_step=time_step),
                                    analysed_spans=1, lead_in_spans=1)
     grid = StudyGrid(presags=tuple(presags), speeds=tuple(speeds), static_forces=tuple(static_forces),
                      aero_coefficient=base.grid.aero_coefficient if aero_coefficient is None else aero_coefficient)
     return dataclasses.replace(
-        base, name=f"reduced: {catenary.name}", catenary=catenary.with_layout(layout),
+        base, name=f"reduced: {catenary.name}", catenary=catenary,
         pantograph=pantograph or base.pantograph, grid=grid, settings=settings,
         description=f"{len(presags)} pre-sags x {len(speeds)} speeds x {len(static_forces)} static forces on "
                     f"{len(kept)} spans, {element_length:g} m elements, {time_step * 1e3:g} ms",
     )
+
+
+def central_spans(catenary: Catenary, span_count: int = REDUCED_SPANS) -> Catenary:
+    """The catenary cut to its ``span_count`` central spans (all of them if it has fewer).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The section.
+    span_count : int
+        Central spans kept, at least 4 (a lead-in span, the analysed span and the run-out). [-]
+    """
+    if span_count < 4:
+        raise ModelError(f"span_count = {span_count} is below the smallest valid value 4")
+    lengths = catenary.layout.span_lengths
+    first = max(0, (len(lengths) - span_count) // 2)
+    kept = lengths[first:first + span_count]
+    radii = catenary.layout.radii[first:first + span_count]
+    layout = SpanLayout(span_lengths=kept, curve_radii=radii if any(radii) else None,
+                        label=f"{len(kept)} central spans of: {catenary.layout.label or catenary.name}")
+    return catenary.with_layout(layout)
 
 
 def run_in_process(definition: StudyDefinition, progress: Callable[[str], None] | None = None) -> xr.Dataset:

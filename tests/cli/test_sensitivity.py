@@ -55,6 +55,9 @@ BAD = [
     (["--output", "dynamic:fast"], ["speeds must be numbers in km/h"]),
     (["--output", "robust", "--method", "sobol", "--samples", "100"], ["power of two"]),
     (["--output", "robust", "--inputs", "operation.static_force"], ["cannot depend on it", "band of static forces"]),
+    (["--output", "dynamic-robust", "--inputs", "operation.static_force"],
+     ["output dynamic-robust cannot depend on it", "band of static forces"]),
+    (["--output", "dynamic-robust:50"], ["--output 'dynamic-robust:50' is not one of", "dynamic-robust"]),
 ]
 
 

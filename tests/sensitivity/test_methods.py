@@ -137,3 +137,19 @@ def test_a_store_keeps_every_evaluation_and_a_rerun_reads_it_back(tmp_path):
     assert np.array_equal(again, first)
     with pytest.raises(ModelError, match="holds another design's evaluation"):
         evaluate_rows(ishigami, rows + 0.1, store=tmp_path / "s")
+
+
+def test_chunks_and_a_dask_cluster_give_the_rows_in_order():
+    """Rows run in chunks (one task each) and on a Dask cluster come back as evaluated one by one."""
+    distributed = pytest.importorskip("distributed")
+    rows = morris_design(ISHIGAMI, 3, seed=1)
+    one = evaluate_rows(ishigami, rows)
+    done = []
+    chunked = evaluate_rows(ishigami, rows, chunk=5, workers=2, progress=lambda d, t: done.append((d, t)))
+    assert np.array_equal(chunked, one)
+    assert done[-1] == (len(rows), len(rows)) and len(done) == -(-len(rows) // 5)  # one call per chunk
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        on_dask = evaluate_rows(ishigami, rows, scheduler=cluster.scheduler_address, chunk=4)
+    assert np.array_equal(on_dask, one)
+    with pytest.raises(ModelError, match=r"chunk = 0 is outside the valid range \[1, 15\] rows"):
+        evaluate_rows(ishigami, rows, chunk=0)
