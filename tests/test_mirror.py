@@ -18,11 +18,7 @@ that is not an ``__init__.py`` or ``__main__.py`` holds logic (``validation/pape
 numbers as data, is checked against the paper's own formulas in ``tests/validation/test_paper.py``)."""
 
 PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {
-    "cli/line.py": "line",
-    "design/line_rules.py": "line",
     "report/line_dynamic.py": "line",
-    "report/line_report.py": "line",
-    "system/survey_writing.py": "line",
     "robust/band_evaluation.py": "robust/* (tol and the robust helpers)",
     "robust/buildability.py": "robust/*",
     "robust/installation.py": "tol",
@@ -32,13 +28,6 @@ PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {
     "robust/study.py": "robust/*",
     "robust/surrogate.py": "robust/*",
     "studies/work.py": "tol (owns studies/work.py)",
-    "sensitivity/analysis.py": "sens",
-    "sensitivity/plots.py": "sens",
-    "sensitivity/quasi_static.py": "sens",
-    "sensitivity/reference.py": "sens",
-    "static/stitch_elements.py": "stitch",
-    "system/masts.py": "stitch",
-    "system/stitch.py": "stitch",
 }
 """TEMPORARY. Module -> the helper branch that brings its test module. The lead empties this list after
 merging those branches; an entry whose test module exists already fails below, so it cannot linger."""
