@@ -154,6 +154,8 @@ def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(tmp_path)
     # the end spans take the mean S_rel of the sized ones (to the CSV's 0.1 mm on 30 m)
     mean_rel = (float(spans[1]["presag_mm"]) + float(spans[2]["presag_mm"])) / 60.0
     assert float(spans[0]["presag_mm"]) == pytest.approx(30.0 * mean_rel, abs=0.11)
+    page = (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
+    assert "S tolerance [mm]" in page and "— (section mean)" in page
 
 
 def test_within_belongs_to_the_robust_rule(tmp_path):
