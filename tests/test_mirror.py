@@ -18,7 +18,6 @@ that is not an ``__init__.py`` or ``__main__.py`` holds logic (``validation/pape
 numbers as data, is checked against the paper's own formulas in ``tests/validation/test_paper.py``)."""
 
 PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {
-    "report/line_dynamic.py": "line",
     "robust/band_evaluation.py": "robust/* (tol and the robust helpers)",
     "robust/buildability.py": "robust/*",
     "robust/installation.py": "tol",
