@@ -150,3 +150,24 @@ def test_the_leading_pantograph_equals_the_single_one_with_the_trailing_one_behi
     one = float(single["sigma"].values.ravel()[0])
     assert float(pair["sigma"].values.ravel()[0]) == pytest.approx(one, rel=0.005)
     assert float(pair["trailing_sigma"].values.ravel()[0]) > 1.3 * one
+
+
+def test_presag_validity_reads_the_chosen_pantograph(close_pair, tmp_path):
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from presag_opt.studies.store import write_store
+
+    store = tmp_path / "pair.nc"
+    write_store(close_pair, store)
+    presag = Path(sys.executable).parent / "presag"
+    for choice, expected in ((None, "trailing"), ("leading", "leading"), ("trailing", "trailing")):
+        command = [str(presag), "validity", str(store), "--json"] + ([] if choice is None else ["--pantograph", choice])
+        done = subprocess.run(command, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, done.stderr
+        assert json.loads(done.stdout)["settings"]["pantograph"] == expected
+    done = subprocess.run([str(presag), "validity", str(store), "--pantograph", "rear"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode != 0 and "invalid choice: 'rear'" in done.stderr
