@@ -54,6 +54,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("store", metavar="PATH", help="netCDF store written by `presag sweep`")
     p.add_argument("--select", metavar="NAME=VALUE", action="append", default=[],
                    help="value (SI) of a swept extra parameter; one per extra parameter of the study")
+    p.add_argument("--pantograph", choices=("leading", "trailing"), default=None,
+                   help="pantograph of a two-pantograph study to analyse (default: trailing, the one that runs "
+                        "into the wire the leading one set swinging)")
     p.add_argument("--plot", metavar="DIR", default=None, help="save the figures (PNG) into this folder")
     add_json_flag(p)
     p.set_defaults(handler=validity_command)
@@ -91,10 +94,10 @@ def sweep_command(args: argparse.Namespace) -> int:
 def validity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag validity``."""
     from presag_opt.studies.store import open_store
-    from presag_opt.studies.validity_analysis import validity_analysis
+    from presag_opt.studies.validity_analysis import pantograph_view, validity_analysis
 
-    dataset = open_store(args.store)
-    result = validity_analysis(dataset, _selection(args.select))
+    dataset, pantograph = pantograph_view(open_store(args.store), args.pantograph)
+    result = validity_analysis(dataset, _selection(args.select), pantograph)
     if args.plot:
         from presag_opt.studies.plots import save_validity_plots
 
@@ -105,6 +108,8 @@ def validity_command(args: argparse.Namespace) -> int:
     summary = result.to_dict()
     limit = summary["beta_limit"]
     print(f"Validity of the quasi-static pre-sag rule: {dataset.attrs.get('study_name', args.store)}")
+    if "trailing_F_m" in dataset:
+        print(f"pantograph: {pantograph} (of two, the second {dataset.attrs.get('second_pantograph_at')} m behind)")
     print("beta* = " + ("not reached" if limit is None else f"{limit:.3f} ± {summary['beta_limit_uncertainty']:.3f}"))
     print(f"criterion: {summary['criterion']}")
     fit = summary["fit"]

@@ -119,9 +119,9 @@ class DynamicMonteCarloResult:
 def _realisation_runs(catenary: Catenary, pantograph, grid: OperatingGrid, settings: SimulationSettings,
                       static_settings: StaticSettings, presag_rel: float, sample: InstallationSample,
                       spacings=None) -> list[RealisationRuns]:
-    """Form-find the design once, then re-solve and simulate every realisation of ``sample`` (one
-    worker's share)."""
-    nominal = form_find(catenary.with_presag(presag_rel), static_settings)
+    """Re-solve and simulate every realisation of ``sample`` (one worker's share) on the design,
+    form-found once per process (:func:`_nominal_state`)."""
+    nominal = _nominal_state(catenary, static_settings, presag_rel)
     points = grid.points()
     out = []
     for i in range(sample.samples):
@@ -143,6 +143,30 @@ def _realisation_runs(catenary: Catenary, pantograph, grid: OperatingGrid, setti
             cpu_time=wallclock.process_time() - cpu,
         ))
     return out
+
+
+_NOMINAL: dict = {}
+"""The form-found design of this process, keyed by (catenary, static settings, S_rel): a worker
+form-finds it once for all its tasks, not once per task."""
+
+
+def _nominal_state(catenary: Catenary, static_settings: StaticSettings, presag_rel: float):
+    """The design form-found with ``static_settings``, cached in this process (one entry).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model (its pre-sag is replaced by ``presag_rel``).
+    static_settings : StaticSettings
+        Form-finding settings.
+    presag_rel : float
+        Design S_rel. [-]
+    """
+    key = (catenary, static_settings, float(presag_rel))
+    if key not in _NOMINAL:
+        _NOMINAL.clear()
+        _NOMINAL[key] = form_find(catenary.with_presag(presag_rel), static_settings)
+    return _NOMINAL[key]
 
 
 def dynamic_monte_carlo(
@@ -186,7 +210,7 @@ def dynamic_monte_carlo(
     workers : int
         Processes sharing the realisations (the results do not depend on it). [-]
     chunk : int
-        Realisations per task (each task form-finds the design once). [-]
+        Realisations per task (a worker process form-finds the design once for all its tasks). [-]
     confidence : float
         Coverage of the percentile intervals. [-]
     progress : callable, optional
@@ -207,7 +231,7 @@ def dynamic_monte_carlo(
     settings = settings or SimulationSettings(numerics="auto")
     grid.check(catenary, pantograph, settings)
     static_settings = band_static_settings(catenary, grid.speeds, settings)
-    probe = form_find(catenary.with_presag(presag_rel), static_settings)
+    probe = _nominal_state(catenary, static_settings, presag_rel)
     disc = probe.discretisation
     draws = draw_installation_errors(samples, len(disc.dropper_elements), len(disc.mast_station),
                                      distribution=errors.distribution, seed=seed)

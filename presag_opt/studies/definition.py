@@ -12,6 +12,8 @@ A study file (``models/studies/*.toml``) has these sections (see ``docs/studies.
                    lead_in_spans, run_out, cutoff_frequency, numerics ("fixed", or "auto": the
                    element length and time step of each speed, presag_opt.dynamics.numerics)
     [limits]       optional: steady_arm_uplift
+    [train]        optional: second_pantograph_at (a second raised pantograph that far behind the
+                   leading one; every run then has two pantographs, and the store both statistics)
 
 Every number is a ``{ value, unit, source, note }`` table, read and range-checked by the model-file
 loader helpers. :class:`StudyDefinition` checks the whole grid before anything is form-found: every
@@ -45,7 +47,7 @@ from presag_opt.system.components import Provenance
 from presag_opt.system.loader import load_catenary, load_model_file, parse_quantity, parse_section, resolve_model_path
 from presag_opt.system.quantity import SI_UNIT, check_value, quantity, validate_fields
 
-STUDY_SECTIONS = ("study", "grid", "parameters", "numerics", "limits")
+STUDY_SECTIONS = ("study", "grid", "parameters", "numerics", "limits", "train")
 NUMERICS_KEYS = ("time_step", "scheme", "hht_alpha", "element_length", "analysed_spans", "lead_in_spans",
                  "run_out", "cutoff_frequency", "numerics")
 
@@ -87,6 +89,30 @@ class StudyGrid:
 
 
 @dataclass(frozen=True, kw_only=True)
+class StudyTrain:
+    """The raised pantographs of every run of a study: one, or two at a spacing.
+
+    The range of the spacing covers the pantographs of one unit (from 5 m) to those of two coupled
+    multiple units (up to 500 m); the section must hold the train (checked with the grid).
+
+    Attributes
+    ----------
+    second_pantograph_at : float or None
+        Distance of a second raised pantograph behind the leading one; None for one pantograph. [m]
+    """
+
+    second_pantograph_at: float | None = quantity("length", 5.0, 500.0, default=None, allow_none=True)
+
+    def __post_init__(self) -> None:
+        validate_fields(self, prefix="train.")
+
+    @property
+    def spacings(self) -> tuple[float, ...] | None:
+        """Distances between consecutive pantographs, front to rear (None for one). [m]"""
+        return None if self.second_pantograph_at is None else (float(self.second_pantograph_at),)
+
+
+@dataclass(frozen=True, kw_only=True)
 class StudyDefinition:
     """A validity study: grid, swept extra parameters, models, numerics and the uplift limit.
 
@@ -99,7 +125,7 @@ class StudyDefinition:
     catenary : Catenary
         The catenary; its pre-sag is replaced by each grid value.
     pantograph : Pantograph
-        The pantograph (one, front and only).
+        The pantograph (the model of every raised pantograph of the train).
     grid : StudyGrid
         Pre-sag, speed and static-force axes and the aerodynamic coefficient.
     parameters : tuple of ParameterSweep
@@ -108,6 +134,8 @@ class StudyDefinition:
         Numerics and analysis window of every run.
     uplift_limit : float
         Largest allowed steady-arm uplift. [m]
+    train : StudyTrain
+        One raised pantograph, or two at a spacing (``train.second_pantograph_at`` may also be swept).
     provenance : dict
         Dotted key -> :class:`~presag_opt.system.components.Provenance` of the study file's numbers.
     """
@@ -120,6 +148,7 @@ class StudyDefinition:
     parameters: tuple[ParameterSweep, ...] = ()
     settings: SimulationSettings = field(default_factory=SimulationSettings)
     uplift_limit: float = quantity("length", 1.0, 1000.0, display="mm", default=STEADY_ARM_UPLIFT_LIMIT)
+    train: StudyTrain = field(default_factory=StudyTrain)
     provenance: dict[str, Provenance] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -128,7 +157,7 @@ class StudyDefinition:
         names = [p.name for p in self.parameters]
         if len(set(names)) != len(names):
             raise ModelError(f"parameters: {names} name a parameter twice")
-        roots = {"catenary": self.catenary, "pantograph": self.pantograph, "settings": self.settings}
+        roots = self._roots()
         for sweep in self.parameters:
             spec = parameter_spec(sweep.name, roots)
             for i, value in enumerate(sweep.values):
@@ -141,6 +170,15 @@ class StudyDefinition:
         """Grid shape: extra parameters (in order), pre-sag, speed, static force."""
         g = self.grid
         return (*(len(p.values) for p in self.parameters), len(g.presags), len(g.speeds), len(g.static_forces))
+
+    @property
+    def two_pantographs(self) -> bool:
+        """Whether the runs have a trailing pantograph (a spacing given or swept)."""
+        return self.train.second_pantograph_at is not None or any(p.root == "train" for p in self.parameters)
+
+    def _roots(self) -> dict[str, Any]:
+        return {"catenary": self.catenary, "pantograph": self.pantograph, "settings": self.settings,
+                "train": self.train}
 
     @property
     def run_count(self) -> int:
@@ -160,7 +198,7 @@ class StudyDefinition:
         indices : tuple of int
             Index into each extra parameter's values, in order. [-]
         """
-        roots: dict[str, Any] = {"catenary": self.catenary, "pantograph": self.pantograph, "settings": self.settings}
+        roots: dict[str, Any] = self._roots()
         for sweep, i in zip(self.parameters, indices, strict=True):
             parts = sweep.name.split(".")
             roots[parts[0]] = apply_parameter(roots[parts[0]], parts[1:], sweep.values[i], sweep.name)
@@ -168,16 +206,19 @@ class StudyDefinition:
 
     def parameter_unit(self, name: str) -> str:
         """SI unit of an extra parameter's values, e.g. ``N`` for ``pantograph.frame.friction``."""
-        roots = {"catenary": self.catenary, "pantograph": self.pantograph, "settings": self.settings}
-        return SI_UNIT[parameter_spec(name, roots)["dimension"]]
+        return SI_UNIT[parameter_spec(name, self._roots())["dimension"]]
 
     def to_dict(self) -> dict[str, Any]:
         """Plain, JSON-ready description of everything that determines the results (SI units).
 
         Provenance and other fields excluded from comparison are left out: they do not change a
-        result, so they do not change :meth:`digest` either.
+        result, so they do not change :meth:`digest` either. A train of one pantograph is left out
+        too, so that a single-pantograph study keeps the hash it had before trains existed.
         """
-        return _plain(self)
+        plain = _plain(self)
+        if self.train.second_pantograph_at is None:
+            del plain["train"]
+        return plain
 
     def to_json(self) -> str:
         """:meth:`to_dict` as canonical JSON (sorted keys, shortest round-trip floats)."""
@@ -195,7 +236,8 @@ class StudyDefinition:
         for i, speed in enumerate(self.grid.speeds):
             try:
                 plan_run(variant.catenary, variant.pantograph, speed=speed, static_force=self.grid.static_forces[0],
-                         aero_coefficient=self.grid.aero_coefficient, settings=variant.settings)
+                         aero_coefficient=self.grid.aero_coefficient, spacings=variant.train.spacings,
+                         settings=variant.settings)
             except ModelError as exc:
                 raise ModelError(f"grid.speeds[{i}] = {speed / KMH:g} km/h{where}: {exc}") from None
 
@@ -214,12 +256,15 @@ class StudyVariant:
         Pantograph.
     settings : SimulationSettings
         Numerics.
+    train : StudyTrain
+        The raised pantographs.
     """
 
     indices: tuple[int, ...]
     catenary: Catenary
     pantograph: Pantograph
     settings: SimulationSettings
+    train: StudyTrain = field(default_factory=StudyTrain)
 
 
 def load_study(name_or_path: str | Path) -> StudyDefinition:
@@ -269,7 +314,8 @@ def study_from_dict(data: Mapping[str, Any], base: Path | None = None) -> StudyD
     pantograph = load_pantograph(_model_path(header["pantograph"], base))
     grid = parse_section(StudyGrid, _table(data["grid"], "grid"), "grid", provenance)
     settings = _numerics(_table(data.get("numerics", {}), "numerics"), provenance)
-    roots = {"catenary": catenary, "pantograph": pantograph, "settings": settings}
+    train = parse_section(StudyTrain, _table(data.get("train", {}), "train"), "train", provenance)
+    roots = {"catenary": catenary, "pantograph": pantograph, "settings": settings, "train": train}
     parameters = tuple(_parameter(entry, i, roots, provenance) for i, entry in enumerate(_parameter_list(data)))
     limits = dict(_table(data.get("limits", {}), "limits"))
     extra = [k for k in limits if k != "steady_arm_uplift"]
@@ -282,7 +328,8 @@ def study_from_dict(data: Mapping[str, Any], base: Path | None = None) -> StudyD
                                                 provenance)
     return StudyDefinition(
         name=str(header["name"]), description=str(header.get("description", "")), catenary=catenary,
-        pantograph=pantograph, grid=grid, parameters=parameters, settings=settings, provenance=provenance, **kwargs,
+        pantograph=pantograph, grid=grid, parameters=parameters, settings=settings, train=train,
+        provenance=provenance, **kwargs,
     )
 
 

@@ -10,7 +10,8 @@ roots:
 - ``pantograph.<stage name>.<field>`` for a stage, e.g. ``pantograph.frame.friction`` (frame
   friction) or ``pantograph.head.damping``, and ``pantograph.contact.stiffness``;
 - ``settings.<field>[.<field>...]``, e.g. ``settings.friction.velocity`` or
-  ``settings.integrator.time_step``.
+  ``settings.integrator.time_step``;
+- ``train.second_pantograph_at``, the spacing of a second raised pantograph (every run then has two).
 
 The pre-sag itself (``catenary.presag_rel``) is the study's own grid axis and cannot be an extra
 parameter. Values are SI inside; a study file gives them with a unit of the field's dimension.
@@ -24,7 +25,7 @@ from typing import Any
 
 from presag_opt.errors import ModelError
 
-ROOTS = ("catenary", "pantograph", "settings")
+ROOTS = ("catenary", "pantograph", "settings", "train")
 """Objects a parameter path may start from."""
 
 GRID_FIELDS = {"catenary.presag_rel": "the pre-sag is the study's own grid axis ([grid] presag)"}

@@ -219,7 +219,7 @@ def estimate_study(definition: StudyDefinition, store: str | Path, *, workers: i
                 memory = max(memory, BASE_MEMORY + FORM_FINDING_BYTES_PER_NODE * n_nodes)
             plan = plan_run(catenary, variant.pantograph, speed=grid.speeds[unit.speed_index],
                             static_force=grid.static_forces[0], aero_coefficient=grid.aero_coefficient,
-                            settings=variant.settings)
+                            spacings=variant.train.spacings, settings=variant.settings)
             steps = plan.step_count(plan.settings.integrator.time_step)
             run_seconds += BATCH_SECONDS_PER_NODE_STEP * n_nodes * steps * len(grid.static_forces)
     count = max(1, min(int(workers or os.cpu_count() or 1), len(pending) or 1))

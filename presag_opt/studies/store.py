@@ -51,7 +51,7 @@ TEMPORARY_SUFFIX = ".partial"
 LOCK = "lock"
 
 VARIABLES = {
-    "F_m": ("mean_force", "N", "mean contact force (front pantograph)"),
+    "F_m": ("mean_force", "N", "mean contact force (leading pantograph)"),
     "sigma": ("std_force", "N", "standard deviation of the contact force"),
     "stat_max": ("statistical_max", "N", "statistical maximum F_m + 3 sigma"),
     "stat_min": ("statistical_min", "N", "statistical minimum F_m - 3 sigma"),
@@ -63,6 +63,12 @@ VARIABLES = {
     "presag_mid_mast": ("presag_mid_mast", "m", "quasi-static pre-sag F_m * (e_mid - e_mast) at the nominal F_m"),
 }
 """Dataset variable -> (UnitResult field, unit, description); all per run."""
+
+TRAILING_PREFIX = "trailing_"
+"""Prefix of the trailing pantograph's variables in the store of a two-pantograph study."""
+
+TRAILING_VARIABLES = ("F_m", "sigma", "stat_max", "stat_min", "max_force", "min_force", "loss_of_contact")
+"""Variables of :data:`VARIABLES` that are per pantograph (the uplift and the rules are per run)."""
 
 
 def units_directory(store: Path) -> Path:
@@ -302,12 +308,17 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
         Dims: the extra parameters (by their dotted names), ``presag`` [m], ``speed`` [m/s],
         ``static_force`` [N]; the variables of :data:`VARIABLES` plus ``sigma_over_F_m`` [-],
         ``beta`` [-], ``failed`` and ``failure`` per run, ``rule_failure`` per unit and
-        ``F_m_nominal`` [N]; the attributes described in ``docs/studies.md``.
+        ``F_m_nominal`` [N]; the attributes described in ``docs/studies.md``. The statistics are
+        the leading pantograph's; a study with two pantographs adds the trailing one's as
+        ``trailing_<name>`` (:data:`TRAILING_VARIABLES`, and ``trailing_sigma_over_F_m``).
     """
     grid = definition.grid
     dims = (*(p.name for p in definition.parameters), "presag", "speed", "static_force")
     shape = definition.shape
     arrays = {name: np.full(shape, np.nan) for name in VARIABLES}
+    two = definition.two_pantographs
+    if two:
+        arrays.update({TRAILING_PREFIX + name: np.full(shape, np.nan) for name in TRAILING_VARIABLES})
     failure = np.full(shape, "", dtype=object)
     rule_failure = np.full(shape[:-1], "", dtype=object)
     beta = np.full(shape[:-1], np.nan)
@@ -315,6 +326,9 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
         index = (*r.unit.parameter_indices, r.unit.presag_index, r.unit.speed_index)
         for name, (field, _, _) in VARIABLES.items():
             arrays[name][index] = getattr(r, field)
+        if two:
+            for name in TRAILING_VARIABLES:
+                arrays[TRAILING_PREFIX + name][index] = r.trailing[VARIABLES[name][0]]
         failure[index] = list(r.failure)
         rule_failure[index] = r.rule_failure
         beta[index] = r.speed_ratio
@@ -322,6 +336,13 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
         name: (dims, arrays[name], {"units": unit, "long_name": text}) for name, (_, unit, text) in VARIABLES.items()
     }
     data["sigma_over_F_m"] = (dims, arrays["sigma"] / arrays["F_m"], {"units": "1", "long_name": "sigma / F_m"})
+    if two:
+        for name in TRAILING_VARIABLES:
+            _, unit, text = VARIABLES[name]
+            data[TRAILING_PREFIX + name] = (dims, arrays[TRAILING_PREFIX + name],
+                                            {"units": unit, "long_name": f"{text} (trailing pantograph)"})
+        data["trailing_sigma_over_F_m"] = (dims, arrays["trailing_sigma"] / arrays["trailing_F_m"],
+                                           {"units": "1", "long_name": "sigma / F_m (trailing pantograph)"})
     data["beta"] = (dims[:-1], beta, {"units": "1", "long_name": "speed ratio v / c_CW"})
     data["failed"] = (dims, failure != "", {"long_name": "the run did not finish"})
     data["failure"] = (dims, failure.astype(str), {"long_name": "why the run failed (empty if it finished)"})
@@ -349,6 +370,12 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
         "aero_coefficient": grid.aero_coefficient,
         "pantograph": "front (the only one)",
     }
+    if two:
+        spacing = definition.train.second_pantograph_at
+        attrs["pantograph"] = ("leading (F_m, sigma, ...) and trailing (trailing_F_m, trailing_sigma, ...); "
+                               "uplift_max over the whole run")
+        attrs["second_pantograph_at"] = spacing if spacing is not None else "swept"
+        attrs["second_pantograph_at_units"] = "m"
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

@@ -40,6 +40,10 @@ paper's figures as numbers (Schick, Liu, Stichel 2025, doi:10.1108/RS-05-2025-00
   optimum that does not move from the rule, an exponent on its bound, or r² below
   :data:`FIT_MIN_R2`.
 - **Uplift** – the largest steady-arm uplift of the grid against the study's limit.
+- **Pantograph** – a study with two raised pantographs stores both pantographs' statistics; the
+  analysis reads one of them (:func:`pantograph_view`). The default is the *trailing* one: it runs
+  into the wire the leading one has set swinging, so its σ is the larger and it is the pantograph
+  that limits the line (the uplift is the run's, the same for both).
 """
 
 from __future__ import annotations
@@ -82,11 +86,53 @@ FIT_MIN_SHIFT = 1e-4
 """Largest |S_opt − S_Δe| below which the optimum has not moved and there is nothing to fit
 (0.1 mm, below any pre-sag grid's resolution). [m]"""
 
+PANTOGRAPHS = ("leading", "trailing")
+"""Pantographs of a two-pantograph study the analysis can read. [-]"""
+
 DENSE_POINTS = 2001
 """Points at which splines are evaluated to find minima and band edges. [-]"""
 
 
-def validity_analysis(dataset: xr.Dataset, selection: dict[str, float] | None = None) -> ValidityResult:
+def pantograph_view(dataset: xr.Dataset, pantograph: str | None = None) -> tuple[xr.Dataset, str]:
+    """The dataset with one pantograph's statistics under the standard names (``F_m``, ``sigma``, ...).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A study store's content.
+    pantograph : {"leading", "trailing"}, optional
+        Which pantograph; default the trailing one of a two-pantograph study (see the module notes),
+        the only one otherwise.
+
+    Returns
+    -------
+    (xarray.Dataset, str)
+        The dataset to analyse and plot, and the pantograph read.
+
+    Raises
+    ------
+    ModelError
+        An unknown name, or the trailing pantograph of a single-pantograph study.
+    """
+    from presag_opt.studies.store import TRAILING_PREFIX, TRAILING_VARIABLES
+
+    two = TRAILING_PREFIX + "F_m" in dataset
+    if pantograph is None:
+        pantograph = "trailing" if two else "leading"
+    if pantograph not in PANTOGRAPHS:
+        raise ModelError(f"pantograph = {pantograph!r} is not one of {', '.join(PANTOGRAPHS)}")
+    if pantograph == "leading":
+        return dataset, pantograph
+    if not two:
+        raise ModelError("pantograph = 'trailing': this study ran one pantograph (no [train] second_pantograph_at); "
+                         "analyse the leading one")
+    names = (*TRAILING_VARIABLES, "sigma_over_F_m")
+    view = dataset.assign({name: dataset[TRAILING_PREFIX + name] for name in names})
+    return view, pantograph
+
+
+def validity_analysis(dataset: xr.Dataset, selection: dict[str, float] | None = None,
+                      pantograph: str | None = None) -> ValidityResult:
     """Analyse a study dataset (see the module notes for every criterion).
 
     Parameters
@@ -95,11 +141,15 @@ def validity_analysis(dataset: xr.Dataset, selection: dict[str, float] | None = 
         A study store's content (:func:`presag_opt.studies.store.open_store`).
     selection : dict, optional
         Value of each extra swept parameter (dotted name -> SI value), required if there are any.
+    pantograph : {"leading", "trailing"}, optional
+        The pantograph of a two-pantograph study to read (default trailing, see
+        :func:`pantograph_view`); ``settings["pantograph"]`` of the result names it.
 
     Returns
     -------
     ValidityResult
     """
+    dataset, pantograph = pantograph_view(dataset, pantograph)
     ds = _select(dataset, selection or {})
     presags = ds["presag"].values
     speeds = ds["speed"].values
@@ -140,7 +190,7 @@ def validity_analysis(dataset: xr.Dataset, selection: dict[str, float] | None = 
         per_beta=tuple(verdicts), force_optima=optima, uplift=_uplift(ds), no_fit_reason=no_fit_reason,
         settings={"distinct_rise": DISTINCT_RISE, "near_optimal_margin": NEAR_OPTIMAL_MARGIN,
                   "hold_share": HOLD_SHARE, "fit_min_r2": FIT_MIN_R2,
-                  "fit_exponent_bounds": list(FIT_EXPONENT_BOUNDS)},
+                  "fit_exponent_bounds": list(FIT_EXPONENT_BOUNDS), "pantograph": pantograph},
     )
 
 

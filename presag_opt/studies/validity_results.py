@@ -192,7 +192,8 @@ class ValidityResult:
         Why there is no fit (empty with a fit): too few optima, no correction to fit, an exponent at
         its bound, or r² below :data:`~presag_opt.studies.validity_analysis.FIT_MIN_R2`.
     settings : dict
-        The criteria's thresholds the analysis used (name -> value, each dimensionless). [-]
+        The criteria's thresholds the analysis used (name -> value, each dimensionless) and
+        ``pantograph``, the pantograph whose statistics were read (``leading`` or ``trailing``). [-]
     """
 
     beta_limit: float | None

@@ -71,7 +71,11 @@ class WorkUnit:
 
 @dataclass(frozen=True, kw_only=True)
 class UnitResult:
-    """Results of one unit, one entry per static force of the grid (front pantograph).
+    """Results of one unit, one entry per static force of the grid.
+
+    The statistics fields are the leading pantograph's; with a second raised pantograph
+    (:attr:`StudyDefinition.two_pantographs <presag_opt.studies.definition.StudyDefinition.two_pantographs>`)
+    ``trailing`` holds the same fields for the trailing one.
 
     Attributes
     ----------
@@ -92,6 +96,9 @@ class UnitResult:
         could not be evaluated; see ``rule_failure``). [m]
     rule_failure : str
         Why the rules could not be evaluated; empty if they were.
+    trailing : dict or None
+        The trailing pantograph's statistics, by the names of :data:`STATISTICS` (units as above:
+        [N], loss of contact [-]); None with one pantograph.
     """
 
     unit: WorkUnit
@@ -108,6 +115,7 @@ class UnitResult:
     presag_delta_e: tuple[float, ...]
     presag_mid_mast: tuple[float, ...]
     rule_failure: str
+    trailing: dict[str, tuple[float, ...]] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready content (floats round-trip exactly through JSON)."""
@@ -116,11 +124,20 @@ class UnitResult:
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> UnitResult:
         """Inverse of :meth:`to_dict`."""
-        values = {f.name: data[f.name] for f in fields(cls)}
+        values = {f.name: data[f.name] for f in fields(cls) if f.name != "trailing"}
+        trailing = data.get("trailing")  # absent in the files of a single-pantograph study
+        if trailing is not None:
+            values["trailing"] = {name: tuple(v) for name, v in trailing.items()}
         unit = values.pop("unit")
         unit = WorkUnit(parameter_indices=tuple(unit["parameter_indices"]), presag_index=unit["presag_index"],
                         speed_index=unit["speed_index"])
         return cls(unit=unit, **{k: tuple(v) if isinstance(v, list) else v for k, v in values.items()})
+
+
+def _statistics(runs: list[Any], pantograph: int) -> dict[str, tuple[float, ...]]:
+    """The :data:`STATISTICS` of one pantograph (0 leading, 1 trailing) of each run, NaN where it failed."""
+    return {name: tuple(getattr(r.statistics[pantograph], name) if r.ok else math.nan for r in runs)
+            for name in STATISTICS}
 
 
 STATISTICS = ("mean_force", "std_force", "statistical_max", "statistical_min", "max_force", "min_force",
@@ -218,9 +235,12 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
         return [done[u] for u in units]
     bases = [{"unit": u, "speed_ratio": speed_ratio(v, catenary.contact_wire.wave_speed)} for u, v in zip(units, speeds)]
 
+    two = variant.train.spacings is not None
+
     def failed(reason: str) -> list[UnitResult]:
+        trailing = {name: nan for name in STATISTICS} if two else None
         return [UnitResult(**base, **{name: nan for name in (*STATISTICS, "uplift_max", *RULE_METHODS)},
-                           failure=(reason,) * n, rule_failure=reason) for base in bases]
+                           failure=(reason,) * n, rule_failure=reason, trailing=trailing) for base in bases]
 
     try:
         state, section = _form_found(definition, catenary, statics[0])
@@ -229,20 +249,21 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
     points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=grid.aero_coefficient)
               for v in speeds for f in grid.static_forces]
     try:
-        batch = simulate_many(state, variant.pantograph, points, settings=variant.settings)
+        batch = simulate_many(state, variant.pantograph, points, spacings=variant.train.spacings,
+                              settings=variant.settings)
     except Exception as exc:  # noqa: BLE001 - e.g. MemoryError: recorded, the study goes on
         return failed(f"simulation: {failure_reason(exc)}")
     results = []
     for i, (base, speed) in enumerate(zip(bases, speeds)):
         runs = batch.runs[i * n : (i + 1) * n]
-        stats = {name: tuple(getattr(r.statistics[0], name) if r.ok else math.nan for r in runs)
-                 for name in STATISTICS}
+        stats = _statistics(runs, 0)
         rules, rule_failure = _rules(definition, section, catenary, speed)
         results.append(UnitResult(
             **base, **stats, **rules,
             uplift_max=tuple(r.uplift_max if r.ok else math.nan for r in runs),
             failure=tuple(r.error or "" for r in runs),
             rule_failure=rule_failure,
+            trailing=_statistics(runs, 1) if two else None,
         ))
     return results
 

@@ -22,3 +22,26 @@ def path(st98, band):
 @pytest.fixture(scope="package")
 def scenarios(band):
     return ForceScenarios.band(*band)
+
+
+@pytest.fixture(scope="package")
+def design(path, scenarios):
+    """The quasi-static robust design of the case-study band (the installation-error tests' design)."""
+    from presag_opt.robust import robust_presag
+
+    return robust_presag(path, scenarios)
+
+
+@pytest.fixture(scope="package")
+def monte_carlo(path, design, scenarios):
+    """The quasi-static Monte Carlo of that design."""
+    from presag_opt.robust.monte_carlo import QuasiStaticMonteCarlo
+
+    return QuasiStaticMonteCarlo(path, design.depths, scenarios)
+
+
+@pytest.fixture(scope="package")
+def counts(path):
+    """Droppers and masts of the path model's line. [-]"""
+    disc = path.state.discretisation
+    return len(disc.dropper_elements), len(disc.mast_station)
