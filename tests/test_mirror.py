@@ -18,14 +18,6 @@ that is not an ``__init__.py`` or ``__main__.py`` holds logic (``validation/pape
 numbers as data, is checked against the paper's own formulas in ``tests/validation/test_paper.py``)."""
 
 PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {
-    "robust/band_evaluation.py": "robust/* (tol and the robust helpers)",
-    "robust/buildability.py": "robust/*",
-    "robust/installation.py": "tol",
-    "robust/monte_carlo.py": "tol",
-    "robust/realisation.py": "tol",
-    "robust/scenarios.py": "robust/*",
-    "robust/study.py": "robust/*",
-    "robust/surrogate.py": "robust/*",
     "studies/work.py": "tol (owns studies/work.py)",
 }
 """TEMPORARY. Module -> the helper branch that brings its test module. The lead empties this list after
