@@ -17,11 +17,9 @@ EXEMPT: dict[str, str] = {}
 that is not an ``__init__.py`` or ``__main__.py`` holds logic (``validation/paper.py``, the published
 numbers as data, is checked against the paper's own formulas in ``tests/validation/test_paper.py``)."""
 
-PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {
-    "studies/work.py": "tol (owns studies/work.py)",
-}
-"""TEMPORARY. Module -> the helper branch that brings its test module. The lead empties this list after
-merging those branches; an entry whose test module exists already fails below, so it cannot linger."""
+PENDING_FROM_OTHER_BRANCHES: dict[str, str] = {}
+"""Module -> the branch that brings its test module, for a module merged ahead of its tests; empty on
+``main``. An entry whose test module exists already fails below, so it cannot linger."""
 
 
 def mirror_of(module: Path) -> Path:
