@@ -38,15 +38,10 @@ from presag_opt.design.recommendation import (
     layout_recommendation,
     quick_decision,
 )
-from presag_opt.design.section import (
-    SectionElasticity,
-    default_spans,
-)
-from presag_opt.elasticity import elasticity_study
+from presag_opt.design.section import SectionElasticity, default_spans, section_curves
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
-from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey, SurveySection, section_catenary
@@ -423,57 +418,6 @@ def _size_section(catenary: Catenary, levels, band: OperatingBand, step: float,
                               step=everything.step)
     rule = None if span_rule is None else span_rule(state, everything, sorted(inner), band, settings)
     return SectionSizing(recommendation=layout_recommendation(sized, band), elasticity=everything, span_presags=rule)
-
-
-def section_curves(state: EquilibriumState, levels, step: float) -> SectionElasticity:
-    """Elasticity curves of every span of a form-found section: active-set, Newton where it cannot settle.
-
-    The active-set method solves the structure linearised about the unloaded equilibrium with
-    tension-only droppers. Next to a push-off arm that linearisation can lose its stability: the
-    compressed arm's geometric stiffness across it is negative, −C·cos²θ/L (an inverted pendulum),
-    and once the uplift slackens the droppers next to the mast, the contact wire there is held only
-    by its tension over the distance to the next taut droppers, T·(1/a + 1/b); where that is less than
-    C/L (e.g. 645 N on a 1 m arm, ST 7,1/7,1 on a 500 m curve with 45 m spans) the linearised problem
-    has no stable solution and its slack set cycles. The span is then computed by the geometrically
-    nonlinear Newton method (the arm's rotation and the wire's stretch in the equations; each contact
-    position starts from the previous one's equilibrium, a continuation along the span), which finds the equilibrium where one exists; where it does not, the arm flips under the
-    load, and the error names the mast, the arm force and the load.
-
-    Parameters
-    ----------
-    state : EquilibriumState
-        The section form-found.
-    levels : sequence of float
-        Force levels. [N]
-    step : float
-        Point spacing of the curves. [m]
-
-    Raises
-    ------
-    ModelError
-        No equilibrium under a force level in a span next to a push-off arm (the arm would flip).
-    """
-    catenary = state.catenary
-    studies, fallback = [], []
-    for span in range(catenary.layout.n_spans):
-        try:
-            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="active-set"))
-            continue
-        except ConvergenceError:
-            fallback.append(span)
-        try:
-            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="newton"))
-        except ConvergenceError as exc:
-            push = np.flatnonzero(catenary.mast_push_off())
-            arms = [m for m in (span, span + 1) if m in set(push)] or list(push)
-            forces = state.steady_arm_forces()
-            names = ", ".join(f"mast {m + 1} ({-forces[m]:.0f} N of compression)" for m in arms) or "none"
-            raise ModelError(
-                f"span {span + 1}: no equilibrium under an uplift up to {max(levels):g} N; push-off arm(s) at {names}: "
-                "the compressed arm would flip once the droppers next to it go slack (its negative stiffness C/L exceeds "
-                "the wire's); use a pull-off arm there, a longer arm, or shorter spans") from exc
-    return SectionElasticity(catenary=catenary, studies=tuple(studies), force_levels=tuple(sorted(levels)),
-                             elasticity_method="newton" if fallback else "active-set", step=step)
 
 
 def _sized_spans(catenary: Catenary) -> tuple[int, ...]:

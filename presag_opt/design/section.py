@@ -24,7 +24,7 @@ import numpy as np
 from presag_opt.design.quasi_static import check_method, elasticity_difference, interpolate_elasticity
 from presag_opt.elasticity import METHODS as ELASTICITY_METHODS
 from presag_opt.elasticity import ElasticityCurve, ElasticityStudy, elasticity_study
-from presag_opt.errors import ModelError
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
@@ -268,3 +268,55 @@ def section_elasticity(
         elasticity_method=elasticity_method,
         step=step,
     )
+
+
+def section_curves(state: EquilibriumState, levels, step: float) -> SectionElasticity:
+    """Elasticity curves of every span of a form-found section: active-set, Newton where it cannot settle.
+
+    The active-set method solves the structure linearised about the unloaded equilibrium with
+    tension-only droppers. Next to a push-off arm that linearisation can lose its stability: the
+    compressed arm's geometric stiffness across it is negative, −C·cos²θ/L (an inverted pendulum),
+    and once the uplift slackens the droppers next to the mast, the contact wire there is held only
+    by its tension over the distance to the next taut droppers, T·(1/a + 1/b); where that is less than
+    C/L (e.g. 645 N on a 1 m arm, ST 7,1/7,1 on a 500 m curve with 45 m spans) the linearised problem
+    has no stable solution and its slack set cycles. The span is then computed by the geometrically
+    nonlinear Newton method (the arm's rotation and the wire's stretch in the equations; each contact
+    position starts from the previous one's equilibrium, a continuation along the span), which finds the
+    equilibrium where one exists; where it does not, the arm flips under the
+    load, and the error names the mast, the arm force and the load.
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The section form-found.
+    levels : sequence of float
+        Force levels. [N]
+    step : float
+        Point spacing of the curves. [m]
+
+    Raises
+    ------
+    ModelError
+        No equilibrium under a force level in a span next to a push-off arm (the arm would flip).
+    """
+    catenary = state.catenary
+    studies, fallback = [], []
+    for span in range(catenary.layout.n_spans):
+        try:
+            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="active-set"))
+            continue
+        except ConvergenceError:
+            fallback.append(span)
+        try:
+            studies.append(elasticity_study(state, span=span, forces=levels, step=step, method="newton"))
+        except ConvergenceError as exc:
+            push = np.flatnonzero(catenary.mast_push_off())
+            arms = [m for m in (span, span + 1) if m in set(push)] or list(push)
+            forces = state.steady_arm_forces()
+            names = ", ".join(f"mast {m + 1} ({-forces[m]:.0f} N of compression)" for m in arms) or "none"
+            raise ModelError(
+                f"span {span + 1}: no equilibrium under an uplift up to {max(levels):g} N; push-off arm(s) at {names}: "
+                "the compressed arm would flip once the droppers next to it go slack (its negative stiffness C/L exceeds "
+                "the wire's); use a pull-off arm there, a longer arm, or shorter spans") from exc
+    return SectionElasticity(catenary=catenary, studies=tuple(studies), force_levels=tuple(sorted(levels)),
+                             elasticity_method="newton" if fallback else "active-set", step=step)
