@@ -42,6 +42,7 @@ def dynamic_robust(args: argparse.Namespace, decision, catenary, band, where: st
     """
     import sys
 
+    from presag_opt.contact_force import KMH
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.report.line_dynamic import CHECK_PANTOGRAPH
     from presag_opt.robust.dynamic_decision import dynamic_cost, dynamic_robust_decision, simulated_band
@@ -50,8 +51,8 @@ def dynamic_robust(args: argparse.Namespace, decision, catenary, band, where: st
     simulated = simulated_band(band)
     cost = dynamic_cost(catenary, pantograph, simulated, workers=2)
     if not getattr(args, "quiet", False):
-        print(f"\npresag: the dynamic robust design of {where} at {simulated.speed_low * 3.6:.0f}–"
-              f"{simulated.speed_high * 3.6:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
+        print(f"\npresag: the dynamic robust design of {where} at {simulated.speed_low / KMH:.0f}–"
+              f"{simulated.speed_high / KMH:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
               "(about a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)
     return dynamic_robust_decision(decision, catenary, pantograph, band, where=where, workers=2, progress=report)
 
