@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from presag_opt.cli.common import add_json_flag, model_help, output_folder, print_json, print_warnings, progress
+from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
 from presag_opt.cli.robust import parse_within
 from presag_opt.design.band import KMH
@@ -39,6 +40,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="allowed loss of the tolerance band in %%, e.g. 10 or 10%% (default 10)")
     p.add_argument("--quick", action="store_true",
                    help="a draft in seconds: 1 m elements, 4 ms time step, a 2 x 2 x 2 sweep")
+    add_dynamic_robust_option(p, "the first model (the case study's ideal section by default)")
     add_json_flag(p)
     p.set_defaults(handler=report_command)
 
@@ -59,6 +61,13 @@ def report_command(args: argparse.Namespace) -> int:
         warnings.simplefilter("always")
         result = design_report(models, band=band, pantograph=args.pantograph or CASE_STUDY_PANTOGRAPH,
                                study=args.study, within=within, quick=args.quick, progress=report)
+        robust = None
+        if args.dynamic_robust:  # the report is then headed by the decision made with it
+            import dataclasses
+
+            first = load_catenary(models[0])
+            robust = dynamic_robust(args, result.decision, first, band, first.name, report)
+            result = dataclasses.replace(result, decision=robust.decision)
         path = write_report(result, folder)
     print_warnings([*(str(w.message) for w in caught), *result.validity.warnings])
     tol, validity, decision = result.robust.tolerance, result.validity, result.decision
@@ -76,6 +85,8 @@ def report_command(args: argparse.Namespace) -> int:
         "quick": result.quick,
         "system": stitch_summary(load_catenary(result.models[0])),
     }
+    if robust is not None:
+        summary["dynamic_robust"] = dynamic_robust_summary(robust)
     if args.json:
         print_json(summary)
         return 0

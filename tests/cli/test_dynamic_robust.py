@@ -43,3 +43,16 @@ def test_the_dynamic_robust_summary_keeps_the_figures_a_designer_reads():
     result = SimpleNamespace(where="section A", study=SimpleNamespace(to_dict=lambda: data))
     summary = dynamic_robust_summary(result)
     assert summary["where"] == "section A" and summary["presag_mm"] == 45.1 and "curve" not in summary
+
+
+@pytest.mark.slow
+def test_a_report_with_the_dynamic_robust_design_is_headed_by_the_final_decision(tmp_path):
+    result = subprocess.run([str(SCRIPT), "report", "--quick", "--dynamic-robust", "--out", str(tmp_path / "r"),
+                             "--json"], capture_output=True, text=True, cwd=tmp_path, timeout=3600)
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert "presag: the dynamic robust design of" in result.stderr
+    methods = {data["decision"]["chosen"]["method"], *(a["method"] for a in data["decision"]["alternatives"])}
+    assert "dynamic robust design" in methods and "dynamic_robust" in data
+    page = (tmp_path / "r" / "index.html").read_text()
+    assert f"{data['presag_mm']:.0f} mm" in page  # the page's headline is the decision made with it
