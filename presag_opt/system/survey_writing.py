@@ -52,11 +52,13 @@ def survey_of_catenary(catenary: Catenary, *, start_chainage: float = 0.0, secti
 
 
 def survey_table(survey: Survey) -> list[dict[str, object]]:
-    """The survey as table rows in table units (m, mm), columns :data:`COLUMNS` and ``section``."""
+    """The survey as table rows in table units (m, mm), columns :data:`COLUMNS`, ``section`` and ``stitched``
+    (``yes``/``no``, empty where the survey does not say)."""
     return [
         {"mast": m.mast, "chainage_m": round(m.chainage, 6), "stagger_mm": round(m.stagger * 1e3, 6),
          "contact_wire_height_m": round(m.contact_wire_height, 6), "system_height_m": round(m.system_height, 6),
-         "curve_radius_m": round(m.curve_radius, 6), "steady_arm": m.steady_arm, "section": m.section}
+         "curve_radius_m": round(m.curve_radius, 6), "steady_arm": m.steady_arm, "section": m.section,
+         "stitched": "" if m.stitched is None else "yes" if m.stitched else "no"}
         for m in survey.masts
     ]
 

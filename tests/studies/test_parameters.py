@@ -44,8 +44,8 @@ def test_a_value_the_model_refuses_is_named_as_the_parameter():
 @pytest.mark.parametrize(("name", "message"), [
     ("catenary.presag_rel", "parameters: 'catenary.presag_rel' cannot be swept: the pre-sag is the study's own grid "
                             "axis ([grid] presag)"),
-    ("train.speed", "parameters: unknown parameter 'train.speed'; a name starts with one of catenary, pantograph, "
-                    "settings followed by a dotted field path (e.g. pantograph.frame.friction)"),
+    ("track.speed", "parameters: unknown parameter 'track.speed'; a name starts with one of catenary, pantograph, "
+                    "settings, train followed by a dotted field path (e.g. pantograph.frame.friction)"),
     ("catenary", "parameters: unknown parameter 'catenary'; a name starts with one of"),
     ("pantograph.arm.mass", "parameters: unknown parameter 'pantograph.arm.mass': 'arm' is not one of head, frame, "
                             "name"),

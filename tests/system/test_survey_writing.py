@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -33,6 +35,11 @@ def test_the_written_csv_reads_back_to_the_same_survey(tmp_path):
     survey = survey_of_catenary(section())
     path = write_survey_csv(survey, tmp_path / "line.csv")
     header = path.read_text(encoding="utf-8").splitlines()[0].split(",")
-    assert header[: len(COLUMNS)] == list(COLUMNS) and header[-1] == "section"
+    assert header == [*COLUMNS, "section", "stitched"]
     again = load_survey(path, working_width=survey.working_width)
     assert survey_table(again) == survey_table(survey)  # table units, rounded to 1e-6 (μm, nm of stagger)
+    marked = dataclasses.replace(survey, masts=tuple(dataclasses.replace(m, stitched=i % 2 == 0)
+                                                     for i, m in enumerate(survey.masts)))
+    path = write_survey_csv(marked, tmp_path / "stitched.csv")
+    assert [m.stitched for m in load_survey(path, working_width=survey.working_width).masts] == [
+        i % 2 == 0 for i in range(len(survey.masts))]
