@@ -207,6 +207,9 @@ class DropperDesign:
         Contact-wire height above the rail at the dropper in the built equilibrium. [m]
     presag : float
         Depth of the contact wire below the straight line between its supports there. [m]
+    stitch : bool
+        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its cut length is
+        between the stitch-wire and contact-wire clamp points).
     """
 
     section: str
@@ -218,6 +221,7 @@ class DropperDesign:
     length: float
     contact_wire_height: float
     presag: float
+    stitch: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -471,13 +475,14 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     cut = state.params.unstretched_length[disc.dropper_elements]
     cw_nodes = disc.axial.node_a[disc.dropper_elements]
     droppers, count = [], {}
-    for span, x, length, node in zip(disc.dropper_span, disc.dropper_position, cut, cw_nodes):
+    stitch = disc.stitch_dropper if disc.stitch_dropper is not None else np.zeros(len(cut), dtype=bool)
+    for span, x, length, node, on_stitch in zip(disc.dropper_span, disc.dropper_position, cut, cw_nodes, stitch):
         count[span] = count.get(span, 0) + 1
         droppers.append(DropperDesign(
             section=section.section, span=int(span) + 1, from_mast=ids[span], to_mast=ids[span + 1],
             dropper=count[span], position=float(x), length=float(length),
             contact_wire_height=float(state.positions[node, 2]),
-            presag=float(built_model.presag_depth(int(span), np.array([x]))[0])))
+            presag=float(built_model.presag_depth(int(span), np.array([x]))[0]), stitch=bool(on_stitch)))
     rules = check_rules(section, built_model, droppers, band, working_width)
     return SectionDesign(section=section.section, catenary=built_model, sizing=sizing, spans=spans,
                          droppers=tuple(droppers), rules=rules)

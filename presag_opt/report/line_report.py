@@ -29,6 +29,21 @@ TOLERANCE_COLUMNS = ("presag_tolerance_low_mm", "presag_tolerance_high_mm")
 mid-span pre-sag (empty for a span that took its section's mean, e.g. an end span)."""
 
 
+STITCH_COLUMNS = ("hangs_from",)
+"""Column ``droppers.csv`` adds on a line with stitched supports: ``messenger`` or ``stitch wire`` (a stitch
+dropper's cut length is between the stitch-wire and contact-wire clamp points)."""
+
+
+def dropper_columns(design: LineDesign) -> tuple[str, ...]:
+    """Columns of ``droppers.csv`` for this design (:data:`DROPPER_COLUMNS`, and where a dropper hangs from on
+    a line with stitch droppers)."""
+    return DROPPER_COLUMNS + (STITCH_COLUMNS if _stitched(design) else ())
+
+
+def _stitched(design: LineDesign) -> bool:
+    return any(getattr(d, "stitch", False) for d in design.droppers)
+
+
 def span_columns(design: LineDesign) -> tuple[str, ...]:
     """Columns of ``spans.csv`` for this design (:data:`SPAN_COLUMNS`, and the tolerance under rule ``robust``)."""
     return SPAN_COLUMNS + (TOLERANCE_COLUMNS if design.options.rule == "robust" else ())
@@ -36,9 +51,11 @@ def span_columns(design: LineDesign) -> tuple[str, ...]:
 
 def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
     """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
+    stitched = _stitched(design)
     return [{"section": d.section, "span": d.span, "from_mast": d.from_mast, "to_mast": d.to_mast, "dropper": d.dropper,
              "x_from_mast_m": round(d.position, 3), "dropper_length_mm": round(d.length * 1e3, 1),
-             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "presag_mm": round(d.presag * 1e3, 1)}
+             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "presag_mm": round(d.presag * 1e3, 1),
+             **({"hangs_from": "stitch wire" if d.stitch else "messenger"} if stitched else {})}
             for d in design.droppers]
 
 
@@ -87,7 +104,7 @@ def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = F
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    tables = {"droppers": (DROPPER_COLUMNS, dropper_rows(design)), "spans": (span_columns(design), span_rows(design))}
+    tables = {"droppers": (dropper_columns(design), dropper_rows(design)), "spans": (span_columns(design), span_rows(design))}
     out = {}
     for name, (columns, rows) in tables.items():
         path = folder / f"{name}.csv"

@@ -5,7 +5,16 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
-from presag_opt.report.line_report import SPAN_COLUMNS, TOLERANCE_COLUMNS, dropper_rows, span_columns, span_rows
+from presag_opt.report.line_report import (
+    DROPPER_COLUMNS,
+    SPAN_COLUMNS,
+    STITCH_COLUMNS,
+    TOLERANCE_COLUMNS,
+    dropper_columns,
+    dropper_rows,
+    span_columns,
+    span_rows,
+)
 
 
 def span(tolerance=None):
@@ -39,3 +48,14 @@ def test_dropper_rows_round_to_a_tenth_of_a_millimetre():
     (row,) = dropper_rows(SimpleNamespace(droppers=[d]))
     assert (row["x_from_mast_m"], row["dropper_length_mm"], row["contact_wire_height_mm"], row["presag_mm"]) == (
         12.346, 912.3, 5456.8, 34.6)
+
+
+def test_a_line_with_stitch_droppers_says_where_each_dropper_hangs_from():
+    common = dict(section="A", span=1, from_mast="M1", to_mast="M2", length=0.9, contact_wire_height=5.5, presag=0.0)
+    plain = SimpleNamespace(dropper=1, position=4.5, stitch=False, **common)
+    on_stitch = SimpleNamespace(dropper=2, position=4.0, stitch=True, **common)
+    stitched = SimpleNamespace(droppers=[on_stitch, plain])
+    assert dropper_columns(stitched) == DROPPER_COLUMNS + STITCH_COLUMNS
+    assert [r["hangs_from"] for r in dropper_rows(stitched)] == ["stitch wire", "messenger"]
+    simple = SimpleNamespace(droppers=[plain])
+    assert dropper_columns(simple) == DROPPER_COLUMNS and "hangs_from" not in dropper_rows(simple)[0]

@@ -127,3 +127,5 @@ def test_design_line_schedules_the_stitch_droppers(tmp_path):
     assert positions[0] == pytest.approx(4.0) and positions[-1] == pytest.approx(56.0)  # stitch droppers ±4 m
     cut = reference.params.unstretched_length[reference.discretisation.dropper_elements]  # the schedule's cut lengths
     assert np.abs(lengths - cut).max() < 1e-6
+    # the schedule says which droppers hang from the stitch wire: exactly the model's stitch droppers
+    assert [d.stitch for d in design.droppers] == list(reference.discretisation.stitch_dropper)
