@@ -191,7 +191,8 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
     _announce(args, catenary, pantograph, grid, band, settings, samples + 1, workers)
     with progress(args, total=samples) as report:
         result = dynamic_monte_carlo(catenary, pantograph, grid, presag_rel,
-                                     errors, samples=samples, seed=seed, workers=workers, chunk=2,
+                                     errors, samples=samples, seed=seed, workers=workers,
+                                     chunk=max(1, min(4, -(-samples // workers))),
                                      settings=settings, progress=report)
     sig = result.percentiles["worst_sigma_over_fm"]
     data = {"kind": "dynamic", "measure": "worst σ/F_m over the grid", "unit": "-",
@@ -204,6 +205,8 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
                                               result.percentiles["smallest_statistical_min"].items()}},
             "largest_uplift_mm": {"nominal": result.nominal.largest_uplift * 1e3,
                                   **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles["largest_uplift"].items()}},
+            "slack_droppers_at_rest": {"realisations": sum(r.slack_at_rest > 0 for r in result.realisations),
+                                       "most": max(r.slack_at_rest for r in result.realisations)},
             "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers}
     return data, result.values("worst_sigma_over_fm")
 
@@ -241,6 +244,10 @@ def _print(data: dict) -> None:
             part = data[key]
             print(f"{name}: error-free {part['nominal']:.1f}; " + ", ".join(
                 f"P{k} {part[f'p{k}']['value']:.1f}" for k in (50, 90, 95, 99)))
+        slack = data["slack_droppers_at_rest"]
+        if slack["realisations"]:
+            print(f"{slack['realisations']} realisations leave droppers slack at rest (at most {slack['most']}); "
+                  "they start just taut, without their slack length")
         print(f"simulation: {data['wall_time_s']:.0f} s with {data['workers']} workers")
     if "largest_dropper_error_mm" in data:
         low, high = data["s_interval_mm"]

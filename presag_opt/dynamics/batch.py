@@ -25,7 +25,7 @@ import numpy as np
 
 from presag_opt.contact_force import KMH
 from presag_opt.dynamics import batch_newton
-from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, integrate_batch
+from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, StaticLine, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.results import BatchResult, RunOutcome
 from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
@@ -85,6 +85,67 @@ def simulate_many(
         (speed at or above the wave speed, a time step too large for the contact stiffness, a
         section too short). The message names the point.
     """
+    return _simulate(state, None, pantograph, points, spacings, settings, keep_histories, progress)[0]
+
+
+def simulate_installed(
+    design: EquilibriumState,
+    installed: Sequence[EquilibriumState],
+    pantograph: Pantograph | Sequence[Pantograph],
+    points: Sequence[OperatingPoint],
+    *,
+    spacings: Sequence[float] | None = None,
+    settings: SimulationSettings | None = None,
+    keep_histories: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[BatchResult, ...]:
+    """Run every operating point on each of several installed lines of one design, together.
+
+    The installed lines (the design built with installation errors and re-solved,
+    :func:`~presag_opt.robust.realisation.installed_state`) share the design's structure: its
+    stiffness, mass, damping, the factorised effective matrix, the influence columns and the dropper
+    directions; each run brings its own line's static contact-wire heights and dropper preloads
+    (:class:`~presag_opt.dynamics.batch_system.StaticLine`). The runs of all lines that share a time
+    step fill the batches together, and the shared matrices are formed once. What the shared
+    structure leaves out is the change of the tangent stiffness with the installation errors: a
+    second-order effect for errors of millimetres (the tests bound it).
+
+    Parameters
+    ----------
+    design : EquilibriumState
+        The form-found design: the shared structure, and the route, sections and wave speed of every run.
+    installed : sequence of EquilibriumState
+        The installed lines: equilibria of the same discretisation as ``design``; at least one.
+    pantograph, points, spacings, settings, keep_histories, progress
+        As in :func:`simulate_many` (``progress`` counts the runs of all lines).
+
+    Returns
+    -------
+    tuple of BatchResult
+        One per installed line, in order, each with one outcome per point.
+
+    Raises
+    ------
+    ModelError
+        As :func:`simulate_many`; and an empty list of lines or a line of another discretisation.
+    """
+    installed = list(installed)
+    if not installed:
+        raise ModelError("installed lines: the list is empty; give at least one")
+    return _simulate(design, installed, pantograph, points, spacings, settings, keep_histories, progress)
+
+
+def _simulate(
+    state: EquilibriumState,
+    installed: list[EquilibriumState] | None,
+    pantograph: Pantograph | Sequence[Pantograph],
+    points: Sequence[OperatingPoint],
+    spacings: Sequence[float] | None,
+    settings: SimulationSettings | None,
+    keep_histories: bool,
+    progress: Callable[[str], None] | None,
+) -> tuple[BatchResult, ...]:
+    """Every point on every line (the structure's own when ``installed`` is None), batched by time step."""
     started = wallclock.perf_counter()
     settings = settings or SimulationSettings()
     points = list(points)
@@ -92,29 +153,37 @@ def simulate_many(
         raise ModelError("operating points: the list is empty; give at least one (speed, static force)")
     plans = [_plan(state, pantograph, p, spacings, settings) for p in points]
     model = structural_model(state, settings=settings.structure)
-    outcomes: list[RunOutcome | None] = [None] * len(points)
+    lines = [StaticLine.own(model)] if installed is None else [StaticLine.installed(model, s) for s in installed]
+    outcomes: dict[tuple[int, int], RunOutcome] = {}
+    total = len(lines) * len(points)
     # Runs that share a time step share a system (with automatic numerics the step follows the speed).
     steps = sorted({p.settings.integrator.time_step for p in plans}, reverse=True)
     for time_step in steps:
-        group = [i for i, p in enumerate(plans) if p.settings.integrator.time_step == time_step]
-        group_settings = plans[group[0]].settings
-        system = BatchSystem.build(model, plans[group[0]].pantographs, group_settings)
-        group.sort(key=lambda i: -plans[i].step_count(time_step))
+        group = [(line, i) for line in range(len(lines)) for i, p in enumerate(plans)
+                 if p.settings.integrator.time_step == time_step]
+        group_settings = plans[group[0][1]].settings
+        system = BatchSystem.build(model, plans[group[0][1]].pantographs, group_settings)
+        group.sort(key=lambda job: -plans[job[1]].step_count(time_step))
         for first in range(0, len(group), BATCH_SIZE):
             members = group[first : first + BATCH_SIZE]
             batch_started = wallclock.perf_counter()
-            records = integrate_batch(state, system, [plans[i] for i in members], group_settings)
+            records = integrate_batch(state, system, [plans[i] for _, i in members], group_settings,
+                                      [lines[line] for line, _ in members])
             share = (wallclock.perf_counter() - batch_started) / len(members)
-            for b, i in enumerate(members):
-                outcomes[i] = _outcome(state, points[i], plans[i], b, records, keep_histories, share)
+            for b, (line, i) in enumerate(members):
+                outcomes[line, i] = _outcome(state, points[i], plans[i], b, records, keep_histories, share)
             if progress is not None:
-                progress(f"{sum(o is not None for o in outcomes)}/{len(points)} runs")
-    return BatchResult(
-        catenary_name=route(state)[0],
-        pantograph_names=tuple(p.name for p in plans[0].pantographs),
-        runs=tuple(outcomes),
-        wall_time=wallclock.perf_counter() - started,
-        settings=settings,
+                progress(f"{len(outcomes)}/{total} runs")
+    wall_time = wallclock.perf_counter() - started
+    return tuple(
+        BatchResult(
+            catenary_name=route(state)[0],
+            pantograph_names=tuple(p.name for p in plans[0].pantographs),
+            runs=tuple(outcomes[line, i] for i in range(len(points))),
+            wall_time=wall_time,
+            settings=settings,
+        )
+        for line in range(len(lines))
     )
 
 

@@ -79,7 +79,7 @@ def contact_set(b, step, count, shared, runs, scratch):
     scratch : Scratch
         Scratch arrays of the run being iterated (``u_of`` read [m]).
     """
-    head_dof, penalty, cw_height = shared.head_dof, shared.contact_stiffness, shared.cw_height
+    head_dof, penalty, cw_height = shared.head_dof, shared.contact_stiffness, runs.cw_height
     path_nodes, path_weights, path_compliance, head_height = (runs.path_nodes, runs.path_weights, runs.path_compliance,
                                                               runs.head_height)
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
@@ -89,7 +89,7 @@ def contact_set(b, step, count, shared, runs, scratch):
         w1, w2 = path_weights[b, p, step, 0], path_weights[b, p, step, 1]
         stiffness = contact_stiffness(penalty[p], path_compliance[b, p, step])
         head = head_dof[p]
-        wire = w1 * (cw_height[n1] + u_of[n1]) + w2 * (cw_height[n2] + u_of[n2])
+        wire = w1 * (cw_height[b, n1] + u_of[n1]) + w2 * (cw_height[b, n2] + u_of[n2])
         penetration = head_height[b, p] + u_of[head] - wire
         q1, count = enter_set(n1, set_dofs, set_force, tangent, position, count)
         q2, count = enter_set(n2, set_dofs, set_force, tangent, position, count)
@@ -152,12 +152,14 @@ def friction_set(a1, count, scalars, shared, scratch):
 
 
 @inline
-def dropper_set(a1, count, scalars, shared, scratch):
+def dropper_set(b, a1, count, scalars, shared, runs, scratch):
     """Each slack dropper's six DOFs, with the force and tangent that remove its axial part.
     Returns (set size, recorded droppers slack).
 
     Parameters
     ----------
+    b : int
+        Run, the row of its dropper preloads. [-]
     a1 : float
         Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
     count : int
@@ -166,16 +168,18 @@ def dropper_set(a1, count, scalars, shared, scratch):
         Constants of the batch.
     shared : Shared
         What the runs of the batch share.
+    runs : Runs
+        What differs between the runs (``dropper_preload`` read [N]).
     scratch : Scratch
         Scratch arrays of the run being iterated (``stretch`` [m] and ``rate`` [m/s] read).
     """
     dropper_dofs, dropper_gradient, dropper_stiffness = shared.dropper_dofs, shared.dropper_gradient, shared.dropper_stiffness
-    dropper_preload, dropper_recorded, rayleigh_beta = shared.dropper_preload, shared.dropper_recorded, scalars.rayleigh_beta
+    dropper_preload, dropper_recorded, rayleigh_beta = runs.dropper_preload, shared.dropper_recorded, scalars.rayleigh_beta
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
     stretch, rate, q = scratch.stretch, scratch.rate, scratch.dropper_set
     slack_recorded = 0
-    for d in range(dropper_preload.shape[0]):
-        axial = dropper_axial_force(dropper_preload[d], dropper_stiffness[d], stretch[d], rate[d], rayleigh_beta)
+    for d in range(dropper_preload.shape[1]):
+        axial = dropper_axial_force(dropper_preload[b, d], dropper_stiffness[d], stretch[d], rate[d], rayleigh_beta)
         if dropper_tension(axial) <= 0.0 and dropper_recorded[d]:
             slack_recorded += 1
         if dropper_slack(axial):
@@ -211,10 +215,10 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
     shared : Shared
         Arrays shared by every run (catenary, factor, pantographs).
     runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
+        Per-run inputs (contact paths, step counts, head heights, static line).
     scratch : Scratch
         Scratch arrays of the run being iterated.
     """
     count = contact_set(b, step, 0, shared, runs, scratch)
     count = friction_set(a1, count, scalars, shared, scratch)
-    return dropper_set(a1, count, scalars, shared, scratch)
+    return dropper_set(b, a1, count, scalars, shared, runs, scratch)

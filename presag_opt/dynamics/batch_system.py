@@ -11,7 +11,7 @@ The interface (operating points, outcomes, statistics) is :mod:`presag_opt.dynam
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -117,8 +117,6 @@ class BatchSystem:
                     friction_dofs.append((n + offset + upper, n + offset + lower if lower >= 0 else -1))
                     friction_levels.append(stage.friction)
         d = model.droppers
-        cw_height = np.zeros(n)
-        cw_height[position[model.cw_z]] = model.cw_height
         fixed = {
             # The kernel reads a row's band entries together: the bands are stored row by row.
             "stiffness_band": np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T),
@@ -135,8 +133,6 @@ class BatchSystem:
             "dropper_dofs": position[d.dofs].astype(np.int64),
             "dropper_gradient": np.ascontiguousarray(d.gradient, dtype=float),
             "dropper_stiffness": np.asarray(d.axial_stiffness, dtype=float).copy(),
-            "dropper_preload": np.asarray(d.preload, dtype=float).copy(),
-            "cw_height": cw_height,
         }
         scalars = Scalars(
             scheme=scheme, rayleigh_alpha=float(model.rayleigh_alpha), rayleigh_beta=float(model.rayleigh_beta),
@@ -144,6 +140,58 @@ class BatchSystem:
             friction_velocity=float(settings.friction.velocity),
         )
         return cls(model, order, position, scalars, fixed)
+
+
+@dataclass(frozen=True)
+class StaticLine:
+    """The static line a run starts from, on the structure its batch shares.
+
+    A run of :func:`integrate_batch` moves about the shared structure's equilibrium with the shared
+    stiffness, mass and damping; its contact wire lies at ``cw_height`` and its droppers carry
+    ``dropper_preload``. For a catenary simulated on its own structure these are the structure's own
+    (:meth:`own`); an installed line (the design built with installation errors) shares the design's
+    structure and brings its own heights and preloads (:meth:`installed`).
+
+    Attributes
+    ----------
+    state : EquilibriumState
+        The line's equilibrium (the stations of its contact-wire nodes).
+    cw_height : ndarray
+        Static height of each contact-wire node, along-track order. [m]
+    dropper_preload : ndarray
+        Static tension of each dropper, along-track order (zero when slack). [N]
+    """
+
+    state: EquilibriumState
+    cw_height: np.ndarray
+    dropper_preload: np.ndarray
+
+    @classmethod
+    def own(cls, model: StructuralModel) -> StaticLine:
+        """The structure's own line: its equilibrium, heights and preloads."""
+        return cls(model.state, model.cw_height, model.droppers.preload)
+
+    @classmethod
+    def installed(cls, model: StructuralModel, state: EquilibriumState) -> StaticLine:
+        """Another equilibrium of the same discretisation (an installed line) on ``model``.
+
+        Parameters
+        ----------
+        model : StructuralModel
+            The shared structure.
+        state : EquilibriumState
+            The line's equilibrium: same nodes, elements and droppers as ``model.state``.
+
+        Raises
+        ------
+        ModelError
+            If ``state`` is not a line of the same discretisation.
+        """
+        disc, own = state.discretisation, model.state.discretisation
+        if (len(disc.cw_nodes) != len(own.cw_nodes) or not np.array_equal(disc.cw_nodes, own.cw_nodes)
+                or not np.array_equal(disc.dropper_elements, own.dropper_elements)):
+            raise ModelError("static line: the installed line has another discretisation than the shared structure")
+        return cls(state, state.positions[disc.cw_nodes, 2].copy(), np.maximum(state.dropper_forces(), 0.0))
 
 
 @dataclass(frozen=True)
@@ -181,20 +229,23 @@ class BatchRecords:
 
 
 def integrate_batch(
-    state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings
+    state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings,
+    lines: list[StaticLine] | None = None,
 ) -> BatchRecords:
     """Integrate one batch of runs on a shared system.
 
     Parameters
     ----------
     state : EquilibriumState
-        The form-found catenary.
+        The form-found catenary of the shared structure.
     system : BatchSystem
         Its shared arrays.
     plans : list of RunPlan
         The runs, sorted by step count, longest first (the kernel's active runs form a prefix).
     settings : SimulationSettings
         As for :meth:`BatchSystem.build`.
+    lines : list of StaticLine, optional
+        Each run's static line; default the structure's own for every run.
 
     Returns
     -------
@@ -210,12 +261,18 @@ def integrate_batch(
     path_weights = np.zeros((n_runs, n_pan, longest + 1, 2))
     path_compliance = np.zeros((n_runs, n_pan, longest + 1))
     head_height = np.zeros((n_runs, n_pan))
+    lines = lines or [StaticLine.own(model)] * n_runs
+    cw_height = np.zeros((n_runs, n))
+    dropper_preload = np.zeros((n_runs, len(model.droppers)))
     compiled = native_sweeps.available()
     lanes = native_sweeps.lanes_for(n_runs) if compiled else n_runs  # run dimension of the swept arrays
     u = np.zeros((n, lanes))
-    for b, plan in enumerate(plans):
+    for b, (plan, line) in enumerate(zip(plans, lines, strict=True)):
         records = slice(0, n_steps[b] + 1)
-        u0, paths = static_contact(state, model, plan, dt * np.arange(n_steps[b] + 1))
+        cw_height[b, system.position[model.cw_z]] = line.cw_height
+        dropper_preload[b] = line.dropper_preload
+        on_structure = model if line.cw_height is model.cw_height else replace(model, cw_height=line.cw_height)
+        u0, paths = static_contact(line.state, on_structure, plan, dt * np.arange(n_steps[b] + 1))
         u[:, b] = u0[system.order]
         for p, path in enumerate(paths):
             path_nodes[b, p, records] = system.position[model.cw_z[path.nodes]]
@@ -255,7 +312,7 @@ def integrate_batch(
     shared = Shared(**{name: np.ascontiguousarray(shared[name]) for name in Shared._fields})  # C order, as sweeps.c
     uplift = np.array([p.operation.uplift_force for p in plans])
     runs = Runs(n_steps=n_steps, path_nodes=path_nodes, path_weights=path_weights, path_compliance=path_compliance,
-                head_height=head_height, uplift=uplift)
+                head_height=head_height, uplift=uplift, cw_height=cw_height, dropper_preload=dropper_preload)
     n_p = len(fixed["pantograph_mass"])
     run_state = RunState(u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
                          *(np.zeros((n_p, n_runs)) for _ in range(4)))

@@ -68,8 +68,7 @@ class Shared(NamedTuple):
     of each DOF, −1 if none; ``head_dof`` and ``contact_stiffness`` [N/m] of each head;
     ``friction_dofs`` (upper DOF, lower DOF or −1 for the car body) and ``friction_levels`` [N];
     ``dropper_dofs`` (6 each), ``dropper_gradient`` [-], ``dropper_stiffness`` [N/m],
-    ``dropper_preload`` [N], ``dropper_recorded``; ``support_dofs`` of the analysed section;
-    ``cw_height`` the static contact-wire height per DOF [m]; ``stretch_influence`` each dropper's
+    ``dropper_recorded``; ``support_dofs`` of the analysed section; ``stretch_influence`` each dropper's
     stretch per unit force at each column [m/N]; ``candidate_index`` each row's place among the rows
     a nonlinear force can reach (−1 if none) and ``candidate_rows`` their list; ``support_row``
     whether a row is a support of the analysed section.
@@ -91,10 +90,8 @@ class Shared(NamedTuple):
     dropper_dofs: np.ndarray
     dropper_gradient: np.ndarray
     dropper_stiffness: np.ndarray
-    dropper_preload: np.ndarray
     dropper_recorded: np.ndarray
     support_dofs: np.ndarray
-    cw_height: np.ndarray
     stretch_influence: np.ndarray
     candidate_index: np.ndarray
     candidate_rows: np.ndarray
@@ -105,7 +102,9 @@ class Runs(NamedTuple):
     """Each run's length and contact path: ``n_steps`` [-]; per (run, head, record) the two
     contact-wire DOFs under the head ``path_nodes``, their shape weights ``path_weights`` [-] and the
     element's compliance ``path_compliance`` [m/N]; ``head_height`` at rest per (run, head) [m];
-    ``uplift`` the mean uplift force per run [N]."""
+    ``uplift`` the mean uplift force per run [N]; the run's static line: ``cw_height`` the static
+    height per (run, DOF), read at the contact-wire DOFs [m], and ``dropper_preload`` per (run,
+    dropper) [N] (runs of several installed lines on one shared structure differ in these alone)."""
 
     n_steps: np.ndarray
     path_nodes: np.ndarray
@@ -113,6 +112,8 @@ class Runs(NamedTuple):
     path_compliance: np.ndarray
     head_height: np.ndarray
     uplift: np.ndarray
+    cw_height: np.ndarray
+    dropper_preload: np.ndarray
 
 
 class RunState(NamedTuple):
@@ -187,14 +188,14 @@ class Scratch(NamedTuple):
 def set_size(shared: Shared) -> int:
     """Largest nonlinear set of a run: two wire nodes and the head per pantograph, the pantograph
     DOFs twice (friction), six DOFs per dropper, and one spare. [-]"""
-    return 3 * len(shared.head_dof) + 2 * len(shared.pantograph_mass) + 6 * len(shared.dropper_preload) + 1
+    return 3 * len(shared.head_dof) + 2 * len(shared.pantograph_mass) + 6 * len(shared.dropper_stiffness) + 1
 
 
 def make_scratch(shared: Shared) -> Scratch:
     """The scratch arrays of the per-run Newton solve of a batch."""
     n = len(shared.mass)
     n_p = len(shared.pantograph_mass)
-    n_d = len(shared.dropper_preload)
+    n_d = len(shared.dropper_stiffness)
     size = set_size(shared)
     return Scratch(
         set_dofs=np.empty(size, dtype=np.int64),

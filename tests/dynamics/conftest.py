@@ -55,8 +55,8 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
         column_of=np.arange(n, dtype=np.int64), columns=columns, head_dof=np.array([6], dtype=np.int64),
         contact_stiffness=np.array([5e4]), friction_dofs=np.array([[6, 7], [7, -1]], dtype=np.int64),
         friction_levels=np.array([5.0, 10.0]), dropper_dofs=dropper_dofs, dropper_gradient=gradient,
-        dropper_stiffness=np.array([1e5]), dropper_preload=np.array([100.0]), dropper_recorded=np.array([True]),
-        support_dofs=np.array([0], dtype=np.int64), cw_height=np.zeros(n),
+        dropper_stiffness=np.array([1e5]), dropper_recorded=np.array([True]),
+        support_dofs=np.array([0], dtype=np.int64),
         stretch_influence=np.ascontiguousarray(np.einsum("cdk,dk->cd", columns[:, dropper_dofs], gradient)),
         candidate_index=np.arange(n, dtype=np.int64), candidate_rows=np.arange(n, dtype=np.int64),
         support_row=np.eye(n, dtype=np.bool_)[0],
@@ -67,6 +67,7 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
         path_nodes=np.tile(np.array([2, 3], dtype=np.int64), (1, 1, steps + 1, 1)),
         path_weights=np.full((1, 1, steps + 1, 2), 0.5), path_compliance=np.full((1, 1, steps + 1), 1e-6),
         head_height=np.array([[head_height]]), uplift=np.array([40.0]),
+        cw_height=np.zeros((1, n)), dropper_preload=np.array([[100.0]]),
     )
     rng = np.random.default_rng(7)
     state = kd.RunState(

@@ -1,5 +1,5 @@
 """The batch engine against the single-run reference path, its independence of batch composition,
-failed runs inside a batch, and bad input.
+failed runs inside a batch, bad input, and installed lines sharing the design's structure.
 
 The runs use a 5-span ST 9,8/9,8 section (one lead-in span, the central span analysed) to keep the
 reference path cheap. Tolerances: where the reference path is well conditioned (no friction, no
@@ -17,11 +17,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.batch import simulate_installed, simulate_many
 from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.dynamics.simulate import simulate
 from presag_opt.errors import ModelError
+from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.static.form_finding import form_find
+from presag_opt.system.catenary import SpanLayout
 
 STATISTICS = ("mean_force", "std_force", "statistical_max", "statistical_min", "max_force", "min_force")
 EXACT = 1e-9
@@ -142,3 +145,49 @@ def test_a_time_step_too_large_for_the_contact_is_refused(short_state, settings)
     coarse = settings.with_fixed_numerics(time_step=0.02)
     with pytest.raises(ModelError, match=r"90 km/h, 100 N: time_step = 20 ms is too large"):
         simulate_many(short_state, stiff, [OperatingPoint(speed=25.0, static_force=100.0)], settings=coarse)
+
+
+# ----- installed lines on a shared structure (simulate_installed) ---------------------------------
+
+def _raised(state, height):
+    """The same line translated upwards by ``height`` [m]: the same forces, every wire ``height`` higher."""
+    return EquilibriumState(state.model, state.positions + np.array([0.0, 0.0, height]), state.params,
+                            state.applied_load)
+
+
+@pytest.fixture(scope="module")
+def installed_points():
+    return [OperatingPoint(speed=v / 3.6, static_force=f, aero_coefficient=AERO) for v, f in ((80, 100), (140, 70))]
+
+
+def test_the_structures_own_line_is_simulate_many_bit_for_bit(short_state, case, settings, installed_points):
+    """The design as its own installed line, alone and beside a raised copy in the same batches."""
+    reference = simulate_many(short_state, case.pantograph, installed_points, settings=settings, keep_histories=True)
+    alone, = simulate_installed(short_state, [short_state], case.pantograph, installed_points, settings=settings,
+                                keep_histories=True)
+    beside = simulate_installed(short_state, [_raised(short_state, 0.05), short_state], case.pantograph,
+                                installed_points, settings=settings, keep_histories=True)[1]
+    for result in (alone, beside):
+        for run, ref in zip(result.runs, reference.runs, strict=True):
+            assert np.array_equal(run.contact_force, ref.contact_force)
+            assert run.statistics == ref.statistics and run.uplift_max == ref.uplift_max
+
+
+def test_a_raised_line_feels_the_same_contact_force(short_state, case, settings, installed_points):
+    """Translating the whole line 50 mm up leaves every force unchanged: the runs read their own line's
+    wire heights in the contact law and in the head's start height (an error would cost k·0.05 m ≈ 2.5 kN)."""
+    own, raised = simulate_installed(short_state, [short_state, _raised(short_state, 0.05)], case.pantograph,
+                                     installed_points, settings=settings, keep_histories=True)
+    for a, b in zip(own.runs, raised.runs, strict=True):
+        assert b.ok, b.error
+        np.testing.assert_allclose(b.contact_force, a.contact_force, rtol=0.0, atol=1e-6)  # N, round-off of 5.3 m heights
+        assert b.statistics[0].std_force == pytest.approx(a.statistics[0].std_force, rel=1e-9)
+
+
+def test_installed_lines_are_checked(short_state, case, settings, installed_points):
+    with pytest.raises(ModelError, match="the list is empty"):
+        simulate_installed(short_state, [], case.pantograph, installed_points, settings=settings)
+    other = form_find(case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 4, label="4 spans")),
+                      case.settings.static)
+    with pytest.raises(ModelError, match="another discretisation"):
+        simulate_installed(short_state, [other], case.pantograph, installed_points, settings=settings)

@@ -28,7 +28,7 @@ def _nonlinear(batch, u, v):
         if lower >= 0:
             f[lower] -= friction
     g = sh.dropper_gradient[0]
-    axial = laws.dropper_axial_force(sh.dropper_preload[0], sh.dropper_stiffness[0], g @ u[:6], g @ v[:6],
+    axial = laws.dropper_axial_force(batch.runs.dropper_preload[0, 0], sh.dropper_stiffness[0], g @ u[:6], g @ v[:6],
                                      sc.rayleigh_beta)
     if laws.dropper_slack(axial):
         f[:6] -= axial * g

@@ -67,7 +67,8 @@ def test_the_update_sweep_is_the_newmark_update(synthetic_batch):
 def test_runs_stop_at_their_last_step():
     runs = kernel_data.Runs(n_steps=np.array([5, 3, 3]), path_nodes=np.zeros((3, 1, 1, 2), np.int64),
                             path_weights=np.zeros((3, 1, 1, 2)), path_compliance=np.zeros((3, 1, 1)),
-                            head_height=np.zeros((3, 1)), uplift=np.zeros(3))
+                            head_height=np.zeros((3, 1)), uplift=np.zeros(3),
+                            cw_height=np.zeros((3, 1)), dropper_preload=np.zeros((3, 1)))
     status = np.full(3, kernel_data.STATUS_RUNNING, dtype=np.int64)
     out = kernel_data.Records(np.zeros((3, 1, 6)), np.zeros(3), np.zeros(3, np.int64), status,
                               np.zeros(3, np.int64), np.zeros(3), np.zeros(3, np.int64))
