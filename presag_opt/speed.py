@@ -38,10 +38,9 @@ def wave_speed(tension: float, mass_per_length: float) -> float:
     float
         Wave speed c. [m/s]
     """
-    if not (tension > 0.0 and mass_per_length > 0.0):
-        raise ModelError(
-            f"tension = {tension!r} N and mass_per_length = {mass_per_length!r} kg/m must both be positive"
-        )
+    for name, value, unit in (("tension", tension, "N"), ("mass_per_length", mass_per_length, "kg/m")):
+        if not (value > 0.0 and math.isfinite(value)):
+            raise ModelError(f"{name} = {value!r} {unit} is outside the valid range (0, ∞) {unit}")
     return math.sqrt(tension / mass_per_length)
 
 
