@@ -414,7 +414,7 @@ def recommend(
 QUICK_NOT_CHECKED = (
     "the quasi-static robust design and its tolerance (presag robust)",
     "the validity limit read from a dynamic sweep, and the dynamic steady-arm uplift (presag report)",
-    "the dynamic robust design and its tolerance (presag robust --dynamic)",
+    "the dynamic robust design and its tolerance (this command with --dynamic-robust, or presag robust --dynamic)",
 )
 """What a recommendation alone does not check (its decision lists them)."""
 

@@ -43,7 +43,7 @@ def quick(delta_e_mm=56.0, beta_max=0.26, uplift_mm=53.9):
         candidates=(Candidate(method=DELTA_E_RULE, presag_rel=delta_e_mm / L / 1e3, uplift=uplift_mm / 1e3),),
         beta_max=beta_max,
         not_checked=("the quasi-static robust design and its tolerance (presag robust)",
-                     "the dynamic robust design and its tolerance (presag robust --dynamic)")))
+                     "the dynamic robust design and its tolerance (this command with --dynamic-robust, or presag robust --dynamic)")))
 
 
 def test_the_case_study_decision_becomes_final_with_the_dynamic_design():
