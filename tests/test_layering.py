@@ -20,6 +20,7 @@ LAYERS = {
     "native": 1,
     "speed": 1,
     "processes": 1,
+    "atomic_files": 1,
     "style": 1,
     "system": 2,
     "static": 3,

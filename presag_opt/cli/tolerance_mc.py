@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from presag_opt.cli.common import output_path, print_json, progress, table
+from presag_opt.cli.common import output_folder, output_path, print_json, progress, table
 from presag_opt.errors import ModelError
 
 MAX_ERROR_MM = 100.0
@@ -51,6 +51,9 @@ def add_options(p: argparse.ArgumentParser) -> None:
                    help="simulate every realisation over F_stat 70–140 N × 50–90 km/h (4 × 3 points, the case-study "
                    "pantograph, α_ae 0.00097 N/(km/h)^2)")
     g.add_argument("--workers", metavar="N", default="2", help="processes of --dynamic (default 2)")
+    g.add_argument("--out", metavar="DIR", default=None,
+                   help="folder keeping every finished realisation of --dynamic: a killed run, started again with "
+                   "the same options, simulates only the rest")
     g.add_argument("--find-dropper-tolerance", action="store_true",
                    help="the largest dropper error whose P95 stays within --within of the error-free design")
 
@@ -77,6 +80,8 @@ def check_options(args: argparse.Namespace) -> None:
     for name in ("dropper_error", "height_error", "samples", "presag_mm"):
         if getattr(args, name) is not None:
             raise ModelError(f"--{name.replace('_', '-')} is an option of the Monte Carlo; add --monte-carlo")
+    if args.out is not None:
+        raise ModelError("--out is an option of the Monte Carlo; add --monte-carlo --dynamic")
     for name in ("dynamic", "find_dropper_tolerance"):
         if getattr(args, name):
             raise ModelError(f"--{name.replace('_', '-')} is an option of the Monte Carlo; add --monte-carlo")
@@ -121,14 +126,18 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
             raise ModelError("--find-dropper-tolerance searches the dropper error; drop --dropper-error")
     elif dropper is None:
         raise ModelError("--monte-carlo needs --dropper-error MM (or --find-dropper-tolerance)")
+    if args.out is not None and not args.dynamic:
+        raise ModelError("--out keeps the realisations of --dynamic (the quasi-static Monte Carlo takes seconds); "
+                         "add --dynamic or drop --out")
     plot = output_path(args.plot) if args.plot else None
+    out = output_folder(args.out) if args.out is not None else None
     errors = InstallationErrors(dropper_length=(dropper or 0.0) * 1e-3, contact_wire_height=height * 1e-3,
                                 messenger_height=height * 1e-3, distribution=args.distribution)
     study = study_for(args)
     span = study.reference_span
     presag_rel = study.robust_parabola.presag_rel if presag_mm is None else presag_mm * 1e-3 / span
     if args.dynamic:
-        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers, dynamic_defaults)
+        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers, dynamic_defaults, out)
     else:
         data, result = _quasi_static(args, study, presag_rel, errors, samples, seed, within)
     data.update(catenary=study.catenary_name, reference_span_m=span, presag_mm=presag_rel * span * 1e3,
@@ -174,7 +183,7 @@ def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
     return data, result.worst_case * 1e3
 
 
-def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
+def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d, out=None):
     from presag_opt.design.band import KMH, OperatingBand
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.dynamics.settings import SimulationSettings
@@ -193,7 +202,7 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d):
         result = dynamic_monte_carlo(catenary, pantograph, grid, presag_rel,
                                      errors, samples=samples, seed=seed, workers=workers,
                                      chunk=max(1, min(4, -(-samples // workers))),
-                                     settings=settings, progress=report)
+                                     settings=settings, progress=report, store=out)
     sig = result.percentiles["worst_sigma_over_fm"]
     data = {"kind": "dynamic", "measure": "worst σ/F_m over the grid", "unit": "-",
             "grid": {"static_forces_N": list(grid.static_forces), "speeds_kmh": [v / KMH for v in grid.speeds]},

@@ -7,6 +7,12 @@ discretisation every speed of the grid needs) and all points of the grid run in 
 does (:mod:`presag_opt.robust.band_evaluation`). Per realisation the grid is reduced to three worst
 cases: the largest σ/F_m, the smallest statistical minimum F_m − 3σ and the largest steady-arm uplift.
 
+Resuming: with a ``store`` folder every finished realisation (and the error-free run) is kept as
+one small JSON file, written atomically, under a key of everything that decides it (system,
+pantograph, grid, numerics, design, error sizes, seed, sample count); a killed Monte Carlo run again
+with the same inputs reads them back and simulates only the rest, and a folder of another Monte
+Carlo is refused before any work.
+
 Reproducibility: the errors of all realisations are drawn in the calling process from one seeded
 generator before any work is shared out; a run's result does not depend on the other runs of its
 batch; so the results do not depend on the number of worker processes.
@@ -23,13 +29,18 @@ instead (the tests and the benchmark compare the two).
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import json
 import time as wallclock
 from collections.abc import Callable
 from concurrent.futures import as_completed
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+from presag_opt.atomic_files import storage_errors, write_atomic
 from presag_opt.design.band import KMH
 from presag_opt.dynamics.batch import simulate_installed, simulate_many
 from presag_opt.dynamics.pantograph import Pantograph
@@ -204,6 +215,7 @@ def dynamic_monte_carlo(
     shared_structure: bool = True,
     confidence: float = 0.95,
     progress: Callable[[str], None] | None = None,
+    store: Path | None = None,
 ) -> DynamicMonteCarloResult:
     """Simulate a parabolic design built with installation errors, realisation by realisation.
 
@@ -240,11 +252,16 @@ def dynamic_monte_carlo(
         Coverage of the percentile intervals. [-]
     progress : callable, optional
         Called with a short message as realisations finish.
+    store : pathlib.Path, optional
+        Folder keeping every finished realisation (created if missing); a rerun with the same inputs
+        reads them back and simulates only the others (see the module notes).
 
     Raises
     ------
     ModelError
-        Bad counts, or a grid the catenary cannot be simulated at.
+        Bad counts, a grid the catenary cannot be simulated at, or a store of another Monte Carlo.
+    StorageError
+        A realisation's file cannot be written (the finished ones are kept).
     ConvergenceError
         A re-solve or a run failed.
     """
@@ -262,30 +279,42 @@ def dynamic_monte_carlo(
                                      distribution=errors.distribution, seed=seed)
     sample = draws.scaled(errors)
     zero = draws.scaled(InstallationErrors(distribution=errors.distribution))
-    tasks = [zero.row(0)] + [_rows(sample, first, min(first + chunk, samples)) for first in range(0, samples, chunk)]
+    kept = _RealisationStore.open(store, (catenary, pantograph, grid, settings, spacings, static_settings,
+                                          float(presag_rel), errors, int(seed), int(samples), bool(shared_structure)))
+    found = kept.read(samples) if kept else {}
+    pending = [i for i in range(samples) if i not in found]
+    tasks = [] if NOMINAL in found else [(NOMINAL, zero.row(0))]
+    tasks += [(indices, _rows(sample, indices)) for indices in
+              (pending[first:first + chunk] for first in range(0, len(pending), chunk))]
     common = (catenary, pantograph, grid, settings, static_settings, presag_rel)
-    results: list[list[RealisationRuns]] = [None] * len(tasks)
-    done = 0
+    runs: dict[int, RealisationRuns] = dict(found)
+    done = sum(i != NOMINAL for i in found)
 
-    def finished(index: int, value) -> None:
+    def finished(indices, value: list[RealisationRuns]) -> None:
         nonlocal done
-        results[index] = value
-        done += len(value) if index else 0
+        indices = [NOMINAL] if indices == NOMINAL else indices
+        for i, realisation in zip(indices, value, strict=True):
+            runs[i] = realisation
+            if kept:
+                kept.write(i, realisation)
+        done += 0 if indices == [NOMINAL] else len(indices)
         if progress:
             elapsed = wallclock.perf_counter() - started
             progress(f"dynamic Monte Carlo: {done}/{samples} realisations ({elapsed:.0f} s)")
 
-    if workers > 1:
+    if found and progress:
+        progress(f"dynamic Monte Carlo: {done}/{samples} realisations read back from {store}")
+    if workers > 1 and len(tasks) > 1:
         with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED) as pool:
-            futures = {pool.submit(_realisation_runs, *common, task, spacings, shared_structure): k
-                       for k, task in enumerate(tasks)}
+            futures = {pool.submit(_realisation_runs, *common, rows, spacings, shared_structure): indices
+                       for indices, rows in tasks}
             for future in as_completed(futures):
                 finished(futures[future], future.result())
     else:
-        for k, task in enumerate(tasks):
-            finished(k, _realisation_runs(*common, task, spacings, shared_structure))
-    nominal = results[0][0]
-    realisations = tuple(r for part in results[1:] for r in part)
+        for indices, rows in tasks:
+            finished(indices, _realisation_runs(*common, rows, spacings, shared_structure))
+    nominal = runs[NOMINAL]
+    realisations = tuple(runs[i] for i in range(samples))
     percentiles = {m: percentile_summary([getattr(r, m) for r in realisations], confidence=confidence)
                    for m in MEASURES}
     return DynamicMonteCarloResult(errors=errors, seed=seed, presag_rel=presag_rel, nominal=nominal,
@@ -293,7 +322,58 @@ def dynamic_monte_carlo(
                                    wall_time=wallclock.perf_counter() - started, workers=int(workers))
 
 
-def _rows(sample: InstallationSample, first: int, last: int) -> InstallationSample:
-    return InstallationSample(dropper=sample.dropper[first:last], contact_wire=sample.contact_wire[first:last],
-                              messenger=sample.messenger[first:last])
+def _rows(sample: InstallationSample, indices: list[int]) -> InstallationSample:
+    return InstallationSample(dropper=sample.dropper[indices], contact_wire=sample.contact_wire[indices],
+                              messenger=sample.messenger[indices])
+
+
+NOMINAL = -1
+"""Index of the error-free run among the realisations of a Monte Carlo (and of its file in a store)."""
+
+
+@dataclass(frozen=True)
+class _RealisationStore:
+    """A folder of finished realisations: ``monte_carlo.json`` (the key) and one file per realisation."""
+
+    folder: Path
+    key: str
+
+    @classmethod
+    def open(cls, folder: Path | None, inputs: tuple) -> _RealisationStore | None:
+        """The store of these inputs in ``folder`` (None: no store); a folder of other inputs is refused."""
+        if folder is None:
+            return None
+        folder = Path(folder)
+        key = hashlib.sha256(repr(inputs).encode()).hexdigest()[:20]
+        manifest = folder / "monte_carlo.json"
+        with storage_errors(folder):
+            folder.mkdir(parents=True, exist_ok=True)
+            if manifest.exists():
+                saved = json.loads(manifest.read_text()).get("key")
+                if saved != key:
+                    raise ModelError(f"{folder}: holds the realisations of another Monte Carlo (other inputs); "
+                                     "give another folder or remove it")
+            else:
+                write_atomic(manifest, json.dumps({"key": key}).encode())
+        return cls(folder, key)
+
+    def _path(self, index: int) -> Path:
+        return self.folder / ("nominal.json" if index == NOMINAL else f"realisation_{index:05d}.json")
+
+    def read(self, samples: int) -> dict[int, RealisationRuns]:
+        """The finished realisations kept (and the error-free run), by index."""
+        out = {}
+        for index in [NOMINAL, *range(samples)]:
+            path = self._path(index)
+            if path.exists():
+                with storage_errors(path):
+                    saved = json.loads(path.read_text())
+                if saved.get("key") != self.key:
+                    raise ModelError(f"{path}: holds a realisation of another Monte Carlo; give another folder")
+                out[index] = RealisationRuns(**saved["runs"])
+        return out
+
+    def write(self, index: int, runs: RealisationRuns) -> None:
+        """Keep one finished realisation (atomically)."""
+        write_atomic(self._path(index), json.dumps({"key": self.key, "runs": dataclasses.asdict(runs)}).encode())
 

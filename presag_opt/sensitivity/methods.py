@@ -32,10 +32,10 @@ from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import morris as morris_sample
 from SALib.sample import sobol as sobol_sample
 
+from presag_opt.atomic_files import write_atomic
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.sensitivity.inputs import SensitivityInput
-from presag_opt.studies.store import write_atomic
 
 CONFIDENCE = 0.95
 """Level of the bootstrap confidence intervals. [-]"""

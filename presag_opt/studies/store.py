@@ -25,12 +25,10 @@ the cause is fixed.
 
 from __future__ import annotations
 
-import errno
 import json
 import os
 import socket
 import sys
-import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from importlib import metadata
@@ -40,14 +38,14 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from presag_opt.atomic_files import TEMPORARY_SUFFIX, storage_errors, write_atomic
 from presag_opt.contact_force import mean_contact_force
-from presag_opt.errors import ModelError, StorageError
+from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.work import UnitResult, WorkUnit
 
 ENGINE = "h5netcdf"
 MANIFEST = "study.json"
-TEMPORARY_SUFFIX = ".partial"
 LOCK = "lock"
 
 VARIABLES = {
@@ -221,33 +219,6 @@ def _lock_holder(lock: Path) -> str | None:
     return str(pid)
 
 
-@contextmanager
-def storage_errors(path: Path) -> Iterator[None]:
-    """Turn a failed file operation under ``path`` into one :class:`~presag_opt.errors.StorageError`
-    line naming the file, the cause and what to do (the study resumes once it is fixed)."""
-    try:
-        yield
-    except StorageError:
-        raise
-    except OSError as exc:
-        name = exc.filename or path
-        reason = exc.strerror or str(exc)
-        if isinstance(exc, (FileExistsError, NotADirectoryError)):
-            reason, hint = "a file is where a folder should be", "move it or give another output path"
-        else:
-            hint = {
-                errno.ENOSPC: "free some space",
-                errno.EDQUOT: "free some space (disk quota)",
-                errno.EACCES: "give write permission or another output path",
-                errno.EPERM: "give write permission or another output path",
-                errno.EROFS: "give a writable output path",
-            }.get(exc.errno or 0, "fix the cause")
-        raise StorageError(
-            f"{name}: {reason}; {hint}, then run the same command again: finished units are kept",
-            exc.errno, str(name),
-        ) from None
-
-
 def finished_units(folder: Path) -> set[str]:
     """Keys of the units whose result file exists."""
     return {p.stem for p in folder.glob("*.json") if p.name != MANIFEST}
@@ -261,35 +232,6 @@ def save_unit(folder: Path, result: UnitResult) -> None:
 def load_unit(folder: Path, unit: WorkUnit) -> UnitResult:
     """Read one unit's result."""
     return UnitResult.from_dict(json.loads((folder / f"{unit.key}.json").read_text()))
-
-
-def write_atomic(path: Path, content: bytes) -> None:
-    """Write ``content`` to ``path`` so that the file is either absent, old, or complete.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        Final file name.
-    content : bytes
-        The file content.
-
-    Raises
-    ------
-    StorageError
-        The file cannot be written (the temporary is removed).
-    """
-    with storage_errors(path):
-        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=TEMPORARY_SUFFIX)
-        try:
-            with os.fdopen(handle, "wb") as fh:
-                fh.write(content)
-                fh.flush()
-                os.fsync(fh.fileno())
-            os.replace(temporary, path)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
-        _fsync_directory(path.parent)
 
 
 def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Dataset:
@@ -435,10 +377,3 @@ def _store_digest(store: Path) -> str:
     return str(open_store(store).attrs["study_hash"])
 
 
-def _fsync_directory(folder: Path) -> None:
-    """Make a rename in ``folder`` durable."""
-    fd = os.open(folder, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)

@@ -62,6 +62,10 @@ def test_find_dropper_tolerance_table(tmp_path):
         (["--monte-carlo"], "--monte-carlo needs --dropper-error MM"),
         (["--dropper-error", "5"], "--dropper-error is an option of the Monte Carlo; add --monte-carlo"),
         (["--monte-carlo", "--find-dropper-tolerance", "--dynamic"], "--find-dropper-tolerance is quasi-static"),
+        (["--out", "kept"], "--out is an option of the Monte Carlo; add --monte-carlo --dynamic"),
+        (["--monte-carlo", "--dropper-error", "5", "--out", "kept"], "--out keeps the realisations of --dynamic"),
+        (["--monte-carlo", "--dynamic", "--dropper-error", "5", "--out", "no/such/folder"],
+         "--out no/such/folder: the folder no/such does not exist"),
     ],
 )
 def test_bad_input_is_one_line(tmp_path, args, message):

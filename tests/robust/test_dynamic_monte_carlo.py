@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -69,3 +71,37 @@ def test_a_line_with_a_slack_dropper_at_rest_runs_on_the_shared_structure():
     assert result.values("slack_at_rest").max() > 0 and result.nominal.slack_at_rest == 0
     with pytest.raises(ModelError, match="slack at the equilibrium"):
         _run(errors, samples=4, seed=3, shared_structure=False)
+
+
+def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monkeypatch):
+    module = importlib.import_module("presag_opt.robust.dynamic_monte_carlo")
+    errors = InstallationErrors(dropper_length=5e-3, contact_wire_height=3e-3)
+    simulate = module._realisation_runs
+    calls = []
+
+    def killed_after_one_task(*args):
+        if calls:
+            raise KeyboardInterrupt  # the user's Ctrl-C during the second task
+        calls.append(args[6].samples)
+        return simulate(*args)
+
+    monkeypatch.setattr(module, "_realisation_runs", killed_after_one_task)
+    with pytest.raises(KeyboardInterrupt):
+        _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
+    assert (tmp_path / "nominal.json").exists() and not list(tmp_path.glob("realisation_*.json"))
+
+    done = []
+    monkeypatch.setattr(module, "_realisation_runs", lambda *args: done.append(args[6].samples) or simulate(*args))
+    resumed = _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
+    assert done == [2, 1]  # the error-free run was read back, the realisations simulated
+    assert sorted(p.name for p in tmp_path.glob("realisation_*.json")) == [f"realisation_{i:05d}.json" for i in range(3)]
+    done.clear()
+    again = _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
+    assert done == []  # everything read back
+    for measure in MEASURES:
+        assert np.array_equal(resumed.values(measure), one_worker.values(measure))
+        assert np.array_equal(again.values(measure), one_worker.values(measure))
+    assert again.nominal == resumed.nominal
+
+    with pytest.raises(ModelError, match="holds the realisations of another Monte Carlo"):
+        _run(errors, samples=3, seed=8, store=tmp_path)
