@@ -10,7 +10,9 @@ import json
 import os
 import select
 import shutil
+import signal
 import subprocess
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -77,13 +79,145 @@ def short_recommendation(short_mixed):
         return recommend(models=[load_catenary("st_9.8_ideal"), short_mixed], recompute_at_recommended=True)
 
 
+def _run_folder(tmp_path_factory) -> Path:
+    """The folder of this test run: shared by all pytest-xdist workers of the run (the parent of each
+    worker's base folder), the base folder itself without xdist."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _cache_in_a_session_folder(tmp_path_factory):
-    """Commands run by the tests cache form-found states in a folder of this session (shared by the
-    tests, so later commands start faster), never in the user's cache."""
+    """Commands run by the tests cache form-found states and compiled C libraries in one folder of
+    this test run, shared by every xdist worker (so a state form-found on one worker is loaded on the
+    other; both caches write a file and rename it, safe for concurrent writers), never in the user's
+    cache."""
+    folder = _run_folder(tmp_path_factory) / "cache"
+    folder.mkdir(exist_ok=True)
     with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
+        patch.setenv("XDG_CACHE_HOME", str(folder))
         yield
+
+
+KERNEL_WARM_UP = """
+import dataclasses, os, sys
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.case import load_case
+from presag_opt.dynamics.settings import OperatingPoint
+from presag_opt.static.form_finding import form_find
+from presag_opt.system.catenary import SpanLayout
+
+case = load_case("case_study_st98")
+settings = dataclasses.replace(case.settings, lead_in_spans=1, analysed_spans=1, numerics="fixed")
+state = form_find(case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 3, label="3 spans")), settings.static)
+point = OperatingPoint(speed=120 / 3.6, static_force=90.0, aero_coefficient=case.operation.aero_coefficient)
+simulate_many(state, case.pantograph, [point], settings=settings, keep_histories=True)
+"""
+"""A one-run batch on three spans: it compiles (or loads) every numba function of the batch kernel."""
+
+KERNEL_WARM_UP_DRIVER = """
+import os, subprocess, sys
+checkout, done = sys.argv[1], sys.argv[2]
+env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+status = subprocess.run([sys.executable, "-c", sys.argv[3]], env={**env, "PYTHONPATH": checkout}).returncode
+# the console script (a non-editable install in CI) may import another copy, with its own numba cache
+status |= subprocess.run([sys.executable, "-c", sys.argv[3]], env=env, cwd=os.path.dirname(done)).returncode
+with open(done + ".tmp", "w") as handle:
+    handle.write(str(status))
+os.replace(done + ".tmp", done)
+"""
+"""Warms the cache of the package the tests import and then that of the installed package (the
+second is a quick cache hit when they are the same files), then writes the done file."""
+
+KERNEL_FREE = ("tests/docs/", "tests/static/", "tests/system/", "tests/native/", "tests/elasticity/",
+               "tests/test_mirror.py", "tests/test_style.py", "tests/test_layering.py", "tests/test_errors.py")
+"""Test files that never run the batch kernel: they run first and do not wait for its compilation."""
+
+_kernel_warm = False
+_needs_kernel = True
+_warm_up: subprocess.Popen | None = None
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _kernel_compiled_once_per_run(tmp_path_factory, _cache_in_a_session_folder):
+    """Compile the batch kernel's numba functions (about 50 s of one core when the in-tree cache is
+    cold, as on a fresh checkout) once per test run, in the background, started by the first worker to
+    get here; until it is done, a test that may run the kernel waits (:func:`_kernel_ready`) instead
+    of compiling it again in its own process and in every command it starts."""
+    import presag_opt
+
+    global _warm_up
+    folder = _run_folder(tmp_path_factory)
+    try:
+        handle = os.open(folder / "kernel-warm-up.pid", os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        yield
+        return
+    if not _needs_kernel:
+        os.close(handle)
+        (folder / "kernel-warm-up.done").write_text("not needed")
+        yield
+        return
+    with open(folder / "kernel-warm-up.log", "w") as log:
+        process = subprocess.Popen(
+            [sys.executable, "-c", KERNEL_WARM_UP_DRIVER, str(Path(presag_opt.__file__).parents[1]),
+             str(folder / "kernel-warm-up.done"), KERNEL_WARM_UP],
+            stdin=subprocess.DEVNULL, stdout=log, stderr=log, cwd=folder, start_new_session=True,
+        )
+    os.write(handle, str(process.pid).encode())
+    os.close(handle)
+    _warm_up = process
+    yield
+    if process.poll() is None:  # this worker is done first: stop it rather than leave it running
+        os.killpg(process.pid, signal.SIGTERM)
+        process.wait()
+
+
+@pytest.fixture(autouse=True)
+def _kernel_ready(request, tmp_path_factory, _kernel_compiled_once_per_run):
+    """Wait for the kernel's compilation (at most 15 min, and not after the warm-up process is gone)
+    unless the test is in :data:`KERNEL_FREE`. Only the time changes: a failed warm-up leaves each
+    test to compile the kernel itself."""
+    global _kernel_warm
+    if _kernel_warm or _test_path(request.node).startswith(KERNEL_FREE):
+        return
+    folder = _run_folder(tmp_path_factory)
+    deadline = time.monotonic() + 900
+    while not (folder / "kernel-warm-up.done").exists() and time.monotonic() < deadline:
+        if _warm_up is not None:
+            if _warm_up.poll() is not None:
+                break  # the warm-up process (this worker's child) is gone without finishing
+        else:
+            try:
+                os.kill(int((folder / "kernel-warm-up.pid").read_text() or 0) or os.getpid(), 0)
+            except (ProcessLookupError, ValueError):
+                break  # the warm-up process (another worker's child) is gone without finishing
+        time.sleep(0.5)
+    _kernel_warm = True
+
+
+def _test_path(item) -> str:
+    """A test's file relative to the repository (``tests/...``)."""
+    return Path(item.path).resolve().relative_to(Path(__file__).resolve().parents[1]).as_posix()
+
+
+SLOW_FIRST = ("tests/docs/test_site.py", "tests/notebooks/test_07_sensitivity.py",
+              "tests/dynamics/test_kernel_cache.py", "tests/cli/test_cli_refusals.py")
+"""The longest files, handed out first in their group so that none of them is left for the end of the
+run on one worker."""
+
+
+def pytest_collection_modifyitems(config, items):
+    """Kernel-free files first (they run while the kernel compiles), the longest files first within
+    each group; otherwise the collection order (a stable sort, the same on every xdist worker)."""
+    global _needs_kernel
+    _needs_kernel = any(not _test_path(item).startswith(KERNEL_FREE) for item in items)
+
+    def order(item):
+        path = _test_path(item)
+        return (not path.startswith(KERNEL_FREE), path not in SLOW_FIRST)
+
+    items.sort(key=order)
 
 
 @pytest.fixture(scope="session", autouse=True)
