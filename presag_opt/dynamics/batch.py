@@ -116,8 +116,18 @@ def simulate_installed(
         The form-found design: the shared structure, and the route, sections and wave speed of every run.
     installed : sequence of EquilibriumState
         The installed lines: equilibria of the same discretisation as ``design``; at least one.
-    pantograph, points, spacings, settings, keep_histories, progress
-        As in :func:`simulate_many` (``progress`` counts the runs of all lines).
+    pantograph : Pantograph or sequence of Pantograph
+        As in :func:`~presag_opt.dynamics.simulate.simulate`.
+    points : sequence of OperatingPoint
+        The operating points, run on every line; at least one.
+    spacings : sequence of float, optional
+        Distances between consecutive pantographs, front to rear. [m]
+    settings : SimulationSettings, optional
+        Numerical settings and analysis window shared by all runs.
+    keep_histories : bool
+        Keep each run's record times and raw contact forces.
+    progress : callable, optional
+        Called with a short message (``"32/96 runs"``, the runs of all lines) as each group finishes.
 
     Returns
     -------
