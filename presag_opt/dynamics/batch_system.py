@@ -159,7 +159,7 @@ class StaticLine:
     cw_height : ndarray
         Static height of each contact-wire node, along-track order. [m]
     dropper_preload : ndarray
-        Static tension of each dropper, along-track order (zero when slack). [N]
+        Static tension of each dropper, along-track order (zero in a slack one, as the state gives it). [N]
     """
 
     state: EquilibriumState
@@ -191,7 +191,7 @@ class StaticLine:
         if (len(disc.cw_nodes) != len(own.cw_nodes) or not np.array_equal(disc.cw_nodes, own.cw_nodes)
                 or not np.array_equal(disc.dropper_elements, own.dropper_elements)):
             raise ModelError("static line: the installed line has another discretisation than the shared structure")
-        return cls(state, state.positions[disc.cw_nodes, 2].copy(), np.maximum(state.dropper_forces(), 0.0))
+        return cls(state, state.positions[disc.cw_nodes, 2].copy(), state.dropper_forces())
 
 
 @dataclass(frozen=True)

@@ -173,7 +173,7 @@ def _newton_uplift(state: EquilibriumState, stations: np.ndarray, force: float) 
     for i, station in enumerate(stations):
         loaded = state.solve(disc.cw_load_vector(station, force), start=previous)
         uplift[i] = float((shape[i] @ (loaded.positions[disc.cw_nodes, 2] - z0))[0])
-        slack[i] = int(np.count_nonzero(loaded.dropper_forces() <= 0.0))
+        slack[i] = loaded.slack_dropper_count()
         previous = loaded
     return uplift, slack
 

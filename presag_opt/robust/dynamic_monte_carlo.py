@@ -152,7 +152,7 @@ def _realisation_runs(catenary: Catenary, pantograph, grid: OperatingGrid, setti
         batches = [simulate_many(state, pantograph, points, spacings=spacings, settings=settings) for state in states]
     # the batches are shared, so is their cost: each realisation is charged an equal part
     wall, processor = wallclock.perf_counter() - started, wallclock.process_time() - cpu
-    return [_worst_cases(batch, int(np.sum(state.dropper_forces() <= 0.0)), wall / len(batches),
+    return [_worst_cases(batch, state.slack_dropper_count(), wall / len(batches),
                          processor / len(batches)) for batch, state in zip(batches, states, strict=True)]
 
 

@@ -177,6 +177,10 @@ class EquilibriumState:
         """Tensile force of each dropper, in along-track order. [N]"""
         return self.axial_forces()[self.discretisation.dropper_elements]
 
+    def slack_dropper_count(self) -> int:
+        """Droppers carrying no tension (slack, or at the point of going slack). [-]"""
+        return int(np.count_nonzero(self.dropper_forces() <= 0.0))
+
     def dropper_lengths(self) -> np.ndarray:
         """Current length of each dropper between its clamps. [m]"""
         return self.element_lengths()[self.discretisation.dropper_elements]

@@ -41,6 +41,15 @@ def test_resolving_without_extra_load_stays_at_the_state(state):
     assert np.abs(again.positions - state.positions).max() <= 1e-6
 
 
+def test_droppers_slack_under_a_large_uplift_are_counted(state):
+    """Form-found, every dropper carries tension; 2 kN lifting the mid-span contact wire slackens the
+    droppers around it (each carries well under 200 N)."""
+    assert state.slack_dropper_count() == 0
+    disc = state.discretisation
+    lifted = state.solve(disc.cw_load_vector(90.0, 2000.0))
+    assert lifted.slack_dropper_count() == int(np.sum(lifted.dropper_forces() <= 0.0)) > 0
+
+
 def test_a_lone_wire_sags_as_a_string():
     """A 60 m wire of 1.08 kg/m at 10 kN, pinned at both ends: mid-span sag g·m·l²/(8T) = 0.0477 m.
     Its bending stiffness (bending length sqrt(EI/T) = 0.14 m against the 60 m span) and its stretch
