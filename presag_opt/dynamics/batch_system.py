@@ -18,6 +18,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from presag_opt.dynamics import kernel
+from presag_opt.dynamics.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
 from presag_opt.dynamics.kernel_data import (
     Records,
     Runs,
@@ -117,10 +118,15 @@ class BatchSystem:
                     friction_dofs.append((n + offset + upper, n + offset + lower if lower >= 0 else -1))
                     friction_levels.append(stage.friction)
         d = model.droppers
+        stiffness_band = np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T)
+        factor_band = np.ascontiguousarray(factor.T)
         fixed = {
             # The kernel reads a row's band entries together: the bands are stored row by row.
-            "stiffness_band": np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T),
-            "factor_band": np.ascontiguousarray(factor.T),
+            "stiffness_band": stiffness_band,
+            "factor_band": factor_band,
+            "stiffness_rows": symmetric_rows(stiffness_band),
+            "lower_rows": lower_rows(factor_band),
+            "upper_rows": upper_rows(factor_band),
             "mass": model.mass.diagonal()[order].copy(),
             "pantograph_mass": mass.diagonal().copy(),
             "pantograph_damping": damping,
@@ -309,7 +315,8 @@ def integrate_batch(
         candidate_rows=candidates.astype(np.int64),
         support_row=support_row,
     )
-    shared = Shared(**{name: np.ascontiguousarray(shared[name]) for name in Shared._fields})  # C order, as sweeps.c
+    shared = Shared(**{name: shared[name] if isinstance(shared[name], BandRows) else np.ascontiguousarray(shared[name])
+                       for name in Shared._fields})  # C order, as sweeps.c
     uplift = np.array([p.operation.uplift_force for p in plans])
     runs = Runs(n_steps=n_steps, path_nodes=path_nodes, path_weights=path_weights, path_compliance=path_compliance,
                 head_height=head_height, uplift=uplift, cw_height=cw_height, dropper_preload=dropper_preload)

@@ -405,12 +405,9 @@ def linear_column(b, scalars, shared, state, out):
         Array receiving the column. [N]
     """
     band, mass, v, q = shared.stiffness_band, shared.mass, state.v, state.q
-    n, width = band.shape
-    bw = width - 1
-    for j in range(n):
+    start, column, value = shared.stiffness_rows
+    for j in range(band.shape[0]):
         acc = band[j, 0] * q[j, b] + scalars.rayleigh_alpha * mass[j] * v[j, b]
-        for k in range(1, min(bw, n - 1 - j) + 1):
-            acc += band[j, k] * q[j + k, b]
-        for k in range(1, min(bw, j) + 1):
-            acc += band[j - k, k] * q[j - k, b]
+        for e in range(start[j], start[j + 1]):
+            acc += value[e] * q[column[e], b]
         out[j, b] = acc

@@ -5,7 +5,8 @@ The sweeps over all DOFs live here; each run's Newton iteration on its nonlinear
 ``batch_woodbury``, ``batch_update``).
 
 This module holds the arithmetic of :func:`presag_opt.dynamics.batch.simulate_many`: banded
-products and solves on arrays of shape (n_dofs, n_runs), and the HHT-α step of every run. Setting up
+products and solves on arrays of shape (n_dofs, n_runs), over the bands' nonzero entries
+(:mod:`presag_opt.dynamics.band_rows`), and the HHT-α step of every run. Setting up
 (matrices, orderings, contact paths, initial states) and the statistics are left to
 :mod:`presag_opt.dynamics.batch`.
 
@@ -37,13 +38,13 @@ from presag_opt.dynamics.batch_forces import nonlinear_forces
 from presag_opt.dynamics.batch_newton import newton_step
 from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
 from presag_opt.native import sweeps as native
-from presag_opt.native.banded_numba import backward_substitution
 from presag_opt.native.jit import kernel_function
 
 
 @kernel_function
-def band_matvec(band, x, out, runs):
-    """out[:, :runs] = A x[:, :runs]; A symmetric, stored by its lower band, band[j, k] = A[j + k, j].
+def band_matvec(band, rows, x, out, runs):
+    """out[:, :runs] = A x[:, :runs]; A symmetric, its diagonal ``band[:, 0]`` and its off-diagonal
+    nonzeros ``rows`` (:func:`~presag_opt.dynamics.band_rows.symmetric_rows`).
 
     Row by row (each output row written once, its inputs read from a window of 2·bw + 1 rows that
     stays in cache), the runs innermost.
@@ -51,7 +52,9 @@ def band_matvec(band, x, out, runs):
     Parameters
     ----------
     band : ndarray, shape (n, bw + 1)
-        Lower band of the symmetric matrix A. [N/m]
+        Lower band of the symmetric matrix A, by rows. [N/m]
+    rows : BandRows
+        A's off-diagonal nonzeros by rows. [N/m]
     x : ndarray, shape (n, n_runs)
         Vectors to multiply, one per column. [m]
     out : ndarray, shape (n, n_runs)
@@ -59,21 +62,16 @@ def band_matvec(band, x, out, runs):
     runs : int
         Number of leading columns to multiply. [-]
     """
-    n, width = band.shape
-    bw = width - 1
+    start, column, value = rows.start, rows.column, rows.value
     acc = np.empty(runs)
-    for j in range(n):
+    for j in range(band.shape[0]):
         d = band[j, 0]
         for b in range(runs):
             acc[b] = d * x[j, b]
-        for k in range(1, min(bw, n - 1 - j) + 1):
-            value = band[j, k]
+        for e in range(start[j], start[j + 1]):
+            a, i = value[e], column[e]
             for b in range(runs):
-                acc[b] += value * x[j + k, b]
-        for k in range(1, min(bw, j) + 1):
-            value = band[j - k, k]
-            for b in range(runs):
-                acc[b] += value * x[j - k, b]
+                acc[b] += a * x[i, b]
         for b in range(runs):
             out[j, b] = acc[b]
 
@@ -106,7 +104,7 @@ def initialise(scalars, shared, runs, state, out, scratch):
     n = sh.mass.shape[0]
     n_p = sh.pantograph_stiffness.shape[0]
     n_runs = runs.n_steps.shape[0]
-    band_matvec(sh.stiffness_band, u, r, n_runs)
+    band_matvec(sh.stiffness_band, sh.stiffness_rows, u, r, n_runs)
     sc.rate[:] = 0.0
     sc.v_of[:] = 0.0
     for b in range(n_runs):
@@ -157,7 +155,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
     q = ũ + β_R ṽ, and r = α r_n (the right-hand side; the uplift acts on the heads only). A step is
     three sweeps over the DOFs, each reading the arrays once: (1) C ṽ + K ũ = α_R M ṽ + K q, g =
     rhs − s (C ṽ + K ũ) and the forward substitution of K_eff δ_lin = g (:func:`forward_sweep`);
-    (2) the backward substitution; then each run's Newton iteration on its few nonlinear DOFs;
+    (2) the backward substitution (:func:`backward_sweep`); then each run's Newton iteration on its few nonlinear DOFs;
     (3) δ = δ_lin − s Z φ, the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the
     next step's predictors (:func:`update_sweep`). The step's force scale and residual at the
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
@@ -201,7 +199,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
             native.backward_sweep(c_sweeps, shared, work, active)
         else:
             forward_sweep(scalars, shared, state, work, active)
-            backward_substitution(shared.factor_band, work.delta, active)
+            backward_sweep(shared, work, active)
         newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
         if compiled:
             native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
@@ -311,25 +309,21 @@ def forward_sweep(scalars, shared, state, work, active):
     """
     stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
                                                           shared.candidate_index)
+    k_start, k_column, k_value = shared.stiffness_rows
+    l_start, l_column, l_value = shared.lower_rows
     v, q, r = state.v, state.q, state.r
     delta, g, linear, scale, first_residual = work.delta, work.g, work.linear, work.scale, work.first_residual
     rayleigh_alpha, s = scalars.rayleigh_alpha, scalars.scheme.s
-    n, width = factor_band.shape
-    bw = width - 1
     acc = np.empty(active)
-    for j in range(n):
+    for j in range(factor_band.shape[0]):
         d = stiffness_band[j, 0]
         m = rayleigh_alpha * mass[j]
         for b in range(active):
             acc[b] = d * q[j, b] + m * v[j, b]
-        for k in range(1, min(bw, n - 1 - j) + 1):
-            value = stiffness_band[j, k]
+        for e in range(k_start[j], k_start[j + 1]):
+            value, i = k_value[e], k_column[e]
             for b in range(active):
-                acc[b] += value * q[j + k, b]
-        for k in range(1, min(bw, j) + 1):
-            value = stiffness_band[j - k, k]
-            for b in range(active):
-                acc[b] += value * q[j - k, b]
+                acc[b] += value * q[i, b]
         c = candidate_index[j]
         if c >= 0:
             for b in range(active):
@@ -345,10 +339,39 @@ def forward_sweep(scalars, shared, state, work, active):
                 scale[b] = max(scale[b], abs(s * lin), abs(r[j, b]))
                 first_residual[b] = max(first_residual[b], abs(gj))
                 acc[b] = gj
-        for k in range(1, min(bw, j) + 1):
-            value = factor_band[j - k, k]
+        for e in range(l_start[j], l_start[j + 1]):
+            value, i = l_value[e], l_column[e]
             for b in range(active):
-                acc[b] -= value * delta[j - k, b]
+                acc[b] -= value * delta[i, b]
+        d = factor_band[j, 0]
+        for b in range(active):
+            delta[j, b] = acc[b] / d
+
+
+@kernel_function
+def backward_sweep(shared, work, active):
+    """Sweep 2 of a step for the first ``active`` runs: the backward substitution Lᵀ δ_lin = y in
+    place, over the nonzeros of Lᵀ (``shared.upper_rows``).
+
+    Parameters
+    ----------
+    shared : Shared
+        Arrays shared by every run (catenary, factor, pantographs).
+    work : Work
+        Work arrays of the sweeps (``delta`` holds L⁻¹ g in, δ_lin out).
+    active : int
+        Number of leading runs (columns) the sweep covers. [-]
+    """
+    factor_band, delta = shared.factor_band, work.delta
+    u_start, u_column, u_value = shared.upper_rows
+    acc = np.empty(active)
+    for j in range(factor_band.shape[0] - 1, -1, -1):
+        for b in range(active):
+            acc[b] = delta[j, b]
+        for e in range(u_start[j], u_start[j + 1]):
+            value, i = u_value[e], u_column[e]
+            for b in range(active):
+                acc[b] -= value * delta[i, b]
         d = factor_band[j, 0]
         for b in range(active):
             delta[j, b] = acc[b] / d

@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from presag_opt.dynamics.band_rows import BandRows
 from presag_opt.dynamics.laws import SchemeConstants
 
 STATUS_RUNNING = -1
@@ -62,7 +63,9 @@ class Shared(NamedTuple):
     """The arrays all runs of a batch share (C order, as ``sweeps.c`` reads them).
 
     Bands are stored by rows, band[j, k] = A[j + k, j]: ``stiffness_band`` K [N/m] and
-    ``factor_band`` the Cholesky factor of K_eff [sqrt(N/m)]; ``mass`` the lumped masses [kg];
+    ``factor_band`` the Cholesky factor L of K_eff [sqrt(N/m)]; the sweeps read their nonzero
+    off-diagonal entries by rows (:mod:`presag_opt.dynamics.band_rows`): ``stiffness_rows`` of K,
+    ``lower_rows`` of L and ``upper_rows`` of Lᵀ, and the diagonals from the bands; ``mass`` the lumped masses [kg];
     ``pantograph_mass``, ``_damping``, ``_stiffness`` and ``_inverse`` the pantographs' M [kg],
     C [N·s/m], K [N/m] and K_eff⁻¹ [m/N]; ``column_of`` the row of ``columns`` (K_eff⁻¹ e_j [m/N])
     of each DOF, −1 if none; ``head_dof`` and ``contact_stiffness`` [N/m] of each head;
@@ -76,6 +79,9 @@ class Shared(NamedTuple):
 
     stiffness_band: np.ndarray
     factor_band: np.ndarray
+    stiffness_rows: BandRows
+    lower_rows: BandRows
+    upper_rows: BandRows
     mass: np.ndarray
     pantograph_mass: np.ndarray
     pantograph_damping: np.ndarray

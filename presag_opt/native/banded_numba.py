@@ -6,9 +6,10 @@ storage), so that the entries a substitution step reads are adjacent in memory. 
 are the columns of a C-ordered array: the innermost loop runs over them, which vectorises when there
 are several. :func:`banded_cholesky_solve` does the operations of ``banded.c`` in the same order
 (the same numbers to the last bit); it is the ``"numba"`` back-end of
-:func:`presag_opt.native.banded.cholesky_solve` and the batch simulator's unit solves.
-:func:`backward_substitution` is its second half, which the batch simulator's step calls after its
-own fused forward sweep. Imported only where it is used (numba loads in about a second).
+:func:`presag_opt.native.banded.cholesky_solve` and the batch simulator's unit solves (its columns
+of K_eff⁻¹); :func:`backward_substitution` is its second half. (The batch simulator's time step
+substitutes over the factor's nonzero entries only, :mod:`presag_opt.dynamics.band_rows`.) Imported
+only where it is used (numba loads in about a second).
 """
 
 from __future__ import annotations
@@ -52,15 +53,14 @@ def banded_cholesky_solve(factor, x, columns):
 @njit(cache=True)
 def backward_substitution(factor, x, columns):
     """Solve Lᵀ y = x in place for the first ``columns`` columns (the second half of
-    :func:`banded_cholesky_solve`; the batch simulator fuses the first half with its own sweep).
+    :func:`banded_cholesky_solve`).
 
     Parameters
     ----------
     factor : ndarray, shape (n, bw + 1)
         The Cholesky factor by rows, ``factor[j, k] = L[j + k, j]``. [sqrt of the matrix's unit]
     x : ndarray, shape (n, m)
-        Forward-substituted right-hand sides L⁻¹ b in, overwritten by the solution (in the batch
-        simulator the displacement increment δ_lin). [unit of the solution]
+        Forward-substituted right-hand sides L⁻¹ b in, overwritten by the solution. [unit of the solution]
     columns : int
         How many leading columns to solve (the others are left as they are). [-]
     """

@@ -12,12 +12,16 @@
 
    Arrays are C-ordered. Run arrays have a leading dimension `ld`, a multiple of LANES; lanes beyond
    the active runs are computed too (their runs have finished or do not exist) and never read as
-   results. Band storage by rows: band[j, k] = A[j + k, j], `width` = bandwidth + 1. */
+   results. Band storage by rows: band[j, k] = A[j + k, j], `width` = bandwidth + 1; the diagonals
+   are read from the bands, the off-diagonal entries from their nonzero lists by rows
+   (presag_opt.dynamics.band_rows: row j's entries are start[j] .. start[j + 1] - 1, with their
+   columns and values), in the order a full-band sweep would add them. */
 
 #include <math.h>
 #include <stdint.h>
 
 #define LANES 8
+#define PHI_ROWS 64 /* rows per block of sweep 3: its slice of the run arrays stays in the L1 cache */
 #define STATUS_RUNNING (-1)
 
 /* numba's max(acc, value): value if value > acc, else acc (Python's rule, NaN included). */
@@ -47,15 +51,17 @@ static inline double right_hand_side(double lin, double rj, double s, int64_t c,
 
 /* Sweep 1: C v + K u = alpha_R M v + K q row by row, g = r - s (C v + K u), the force scale and
    residual on rows no nonlinear force reaches, and the forward substitution of K_eff delta = g;
-   one or two blocks of lanes per pass. */
+   one or two blocks of lanes per pass. K's off-diagonal entries are k_start/k_column/k_value, the
+   factor's left of its diagonal l_start/l_column/l_value. */
 void presag_forward_sweep(
     const double *restrict stiffness, const double *restrict factor, const double *restrict mass,
-    int64_t n, int64_t width, double rayleigh_alpha, double s, const double *restrict q,
+    int64_t n, int64_t width, const int64_t *restrict k_start, const int64_t *restrict k_column,
+    const double *restrict k_value, const int64_t *restrict l_start, const int64_t *restrict l_column,
+    const double *restrict l_value, double rayleigh_alpha, double s, const double *restrict q,
     const double *restrict v, const double *restrict r, const int64_t *restrict candidate,
     double *restrict linear, double *restrict g, double *restrict scale, double *restrict first_residual,
     double *restrict delta, int64_t ld, int64_t lanes)
 {
-    const int64_t bw = width - 1;
     for (int64_t b0 = 0; b0 < lanes; b0 += 2 * LANES) {
         const int two = b0 + LANES < lanes;
         for (int64_t j = 0; j < n; j++) {
@@ -67,18 +73,9 @@ void presag_forward_sweep(
                 a[i] = d * q[row + i] + m * v[row + i];
                 c[i] = two ? d * q[row + LANES + i] + m * v[row + LANES + i] : 0.0;
             }
-            const int64_t up = min64(bw, n - 1 - j);
-            for (int64_t k = 1; k <= up; k++) {
-                const double value = stiffness[j * width + k];
-                const double *qk = q + (j + k) * ld + b0;
-                for (int i = 0; i < LANES; i++) a[i] += value * qk[i];
-                if (two)
-                    for (int i = 0; i < LANES; i++) c[i] += value * qk[LANES + i];
-            }
-            const int64_t down = min64(bw, j);
-            for (int64_t k = 1; k <= down; k++) {
-                const double value = stiffness[(j - k) * width + k];
-                const double *qk = q + (j - k) * ld + b0;
+            for (int64_t e = k_start[j]; e < k_start[j + 1]; e++) {
+                const double value = k_value[e];
+                const double *qk = q + k_column[e] * ld + b0;
                 for (int i = 0; i < LANES; i++) a[i] += value * qk[i];
                 if (two)
                     for (int i = 0; i < LANES; i++) c[i] += value * qk[LANES + i];
@@ -90,9 +87,9 @@ void presag_forward_sweep(
                 for (int i = 0; i < LANES; i++)
                     c[i] = right_hand_side(c[i], r[row + LANES + i], s, cand, b0 + LANES + i, ld, linear, g, scale,
                                            first_residual);
-            for (int64_t k = 1; k <= down; k++) {
-                const double value = factor[(j - k) * width + k];
-                const double *dk = delta + (j - k) * ld + b0;
+            for (int64_t e = l_start[j]; e < l_start[j + 1]; e++) {
+                const double value = l_value[e];
+                const double *dk = delta + l_column[e] * ld + b0;
                 for (int i = 0; i < LANES; i++) a[i] -= value * dk[i];
                 if (two)
                     for (int i = 0; i < LANES; i++) c[i] -= value * dk[LANES + i];
@@ -105,11 +102,12 @@ void presag_forward_sweep(
     }
 }
 
-/* Sweep 2: backward substitution L^T x = y in place, one or two blocks of lanes per pass. */
-void presag_backward_sweep(const double *restrict factor, double *restrict x, int64_t n, int64_t width, int64_t ld,
-                           int64_t lanes)
+/* Sweep 2: backward substitution L^T x = y in place, one or two blocks of lanes per pass; the
+   entries of L^T right of its diagonal are u_start/u_column/u_value. */
+void presag_backward_sweep(const double *restrict factor, const int64_t *restrict u_start,
+                           const int64_t *restrict u_column, const double *restrict u_value, double *restrict x,
+                           int64_t n, int64_t width, int64_t ld, int64_t lanes)
 {
-    const int64_t bw = width - 1;
     for (int64_t b0 = 0; b0 < lanes; b0 += 2 * LANES) {
         const int two = b0 + LANES < lanes;
         for (int64_t j = n - 1; j >= 0; j--) {
@@ -119,10 +117,9 @@ void presag_backward_sweep(const double *restrict factor, double *restrict x, in
                 a[i] = xj[i];
                 c[i] = two ? xj[LANES + i] : 0.0;
             }
-            const int64_t up = min64(bw, n - 1 - j);
-            for (int64_t k = 1; k <= up; k++) {
-                const double value = factor[j * width + k];
-                const double *xk = x + (j + k) * ld + b0;
+            for (int64_t e = u_start[j]; e < u_start[j + 1]; e++) {
+                const double value = u_value[e];
+                const double *xk = x + u_column[e] * ld + b0;
                 for (int i = 0; i < LANES; i++) a[i] -= value * xk[i];
                 if (two)
                     for (int i = 0; i < LANES; i++) c[i] -= value * xk[LANES + i];
@@ -136,7 +133,8 @@ void presag_backward_sweep(const double *restrict factor, double *restrict x, in
 }
 
 /* Sweep 3: delta = delta_lin - s Z phi, the new state and the next step's predictors, and the
-   support uplift of the runs still going. */
+   support uplift of the runs still going; by blocks of PHI_ROWS rows: each run's few terms of Z phi
+   along the block (a column of Z is contiguous), then the block's state, the runs innermost. */
 void presag_update_sweep(
     int64_t n, const double *restrict mass, const double *restrict columns, const int64_t *restrict phi_count,
     const int64_t *restrict phi_column, const double *restrict phi_coefficient, int64_t phi_size,
@@ -145,34 +143,38 @@ void presag_update_sweep(
     double hht_alpha, double rayleigh_beta, const uint8_t *restrict support_row, const int64_t *restrict status,
     const int64_t *restrict n_steps, int64_t step, double *restrict uplift_max)
 {
-    for (int64_t j = 0; j < n; j++) {
-        const int64_t row = j * ld;
+    for (int64_t j0 = 0; j0 < n; j0 += PHI_ROWS) {
+        const int64_t j1 = min64(n, j0 + PHI_ROWS);
         for (int64_t b = 0; b < active; b++) {
             const int64_t count = phi_count[b];
-            double dj = delta[row + b];
-            for (int64_t k = 0; k < count; k++)
-                dj -= phi_coefficient[b * phi_size + k] * columns[phi_column[b * phi_size + k] * n + j];
-            delta[row + b] = dj;
+            for (int64_t k = 0; k < count; k++) {
+                const double coefficient = phi_coefficient[b * phi_size + k];
+                const double *restrict column = columns + phi_column[b * phi_size + k] * n;
+                for (int64_t j = j0; j < j1; j++) delta[j * ld + b] -= coefficient * column[j];
+            }
         }
-        const double m = mass[j];
-        for (int64_t b = 0; b < lanes; b++) {
-            const double dj = delta[row + b];
-            const double aj = a0 * dj;
-            const double uj = u[row + b] + dj;
-            const double vj = v[row + b] + c_g * aj;
-            const double rj = (r[row + b] - m * aj) / s;
-            const double up = uj + dt * vj + c_a * aj;
-            const double vp = vj + c_v * aj;
-            delta[row + b] = uj;
-            u[row + b] = up;
-            v[row + b] = vp;
-            q[row + b] = up + rayleigh_beta * vp;
-            r[row + b] = hht_alpha * rj;
-        }
-        if (support_row[j]) {
-            for (int64_t b = 0; b < active; b++)
-                if (status[b] == STATUS_RUNNING && n_steps[b] >= step)
-                    uplift_max[b] = python_max(uplift_max[b], delta[row + b]);
+        for (int64_t j = j0; j < j1; j++) {
+            const int64_t row = j * ld;
+            const double m = mass[j];
+            for (int64_t b = 0; b < lanes; b++) {
+                const double dj = delta[row + b];
+                const double aj = a0 * dj;
+                const double uj = u[row + b] + dj;
+                const double vj = v[row + b] + c_g * aj;
+                const double rj = (r[row + b] - m * aj) / s;
+                const double up = uj + dt * vj + c_a * aj;
+                const double vp = vj + c_v * aj;
+                delta[row + b] = uj;
+                u[row + b] = up;
+                v[row + b] = vp;
+                q[row + b] = up + rayleigh_beta * vp;
+                r[row + b] = hht_alpha * rj;
+            }
+            if (support_row[j]) {
+                for (int64_t b = 0; b < active; b++)
+                    if (status[b] == STATUS_RUNNING && n_steps[b] >= step)
+                        uplift_max[b] = python_max(uplift_max[b], delta[row + b]);
+            }
         }
     }
 }

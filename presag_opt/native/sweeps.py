@@ -45,8 +45,9 @@ on its own as in numba (no contraction into fused multiply-adds)."""
 
 _P, _I, _D = ctypes.c_size_t, ctypes.c_int64, ctypes.c_double  # pointer (as the address), int64, double
 SIGNATURES = {
-    "presag_forward_sweep": (_P, _P, _P, _I, _I, _D, _D, _P, _P, _P, _P, _P, _P, _P, _P, _P, _I, _I),
-    "presag_backward_sweep": (_P, _P, _I, _I, _I, _I),
+    "presag_forward_sweep": (_P, _P, _P, _I, _I, _P, _P, _P, _P, _P, _P, _D, _D, _P, _P, _P, _P, _P, _P, _P, _P, _P,
+                             _I, _I),
+    "presag_backward_sweep": (_P, _P, _P, _P, _P, _I, _I, _I, _I),
     "presag_update_sweep": (_I, _P, _P, _P, _P, _P, _I, _P, _P, _P, _P, _P, _I, _I, _I, _D, _D, _D, _D, _D, _D, _D,
                             _D, _P, _P, _P, _I, _P),
 }
@@ -135,8 +136,10 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
     """
     sh = shared
     n, width = sh.factor_band.shape
+    k, lower = sh.stiffness_rows, sh.lower_rows
     c_sweeps.forward(sh.stiffness_band.ctypes.data, sh.factor_band.ctypes.data, sh.mass.ctypes.data, n, width,
-                     scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data,
+                     k.start.ctypes.data, k.column.ctypes.data, k.value.ctypes.data, lower.start.ctypes.data,
+                     lower.column.ctypes.data, lower.value.ctypes.data, scalars.rayleigh_alpha, scalars.scheme.s, state.q.ctypes.data, state.v.ctypes.data,
                      state.r.ctypes.data, sh.candidate_index.ctypes.data, work.linear.ctypes.data, work.g.ctypes.data,
                      work.scale.ctypes.data, work.first_residual.ctypes.data, work.delta.ctypes.data,
                      work.delta.shape[1], _lanes(work, active))
@@ -144,8 +147,8 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
 
 @inline
 def backward_sweep(c_sweeps, shared, work, active):
-    """The backward substitution of K_eff δ_lin = g in C (numba's is
-    :func:`presag_opt.native.banded_numba.backward_substitution`).
+    """:func:`presag_opt.dynamics.kernel.backward_sweep` in C: the backward substitution of
+    K_eff δ_lin = g.
 
     Parameters
     ----------
@@ -159,7 +162,9 @@ def backward_sweep(c_sweeps, shared, work, active):
         Runs the sweep covers, the first columns (rounded up to whole blocks). [-]
     """
     n, width = shared.factor_band.shape
-    c_sweeps.backward(shared.factor_band.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
+    upper = shared.upper_rows
+    c_sweeps.backward(shared.factor_band.ctypes.data, upper.start.ctypes.data, upper.column.ctypes.data,
+                      upper.value.ctypes.data, work.delta.ctypes.data, n, width, work.delta.shape[1],
                       _lanes(work, active))
 
 

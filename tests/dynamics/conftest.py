@@ -31,6 +31,7 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
     import numpy as np
 
     from presag_opt.dynamics import kernel_data as kd
+    from presag_opt.dynamics.band_rows import lower_rows, symmetric_rows, upper_rows
     from presag_opt.dynamics.laws import scheme_constants
 
     n, n_p = 6, 2
@@ -49,7 +50,8 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
     gradient = np.array([[0.6, 0.0, 0.8, -0.6, 0.0, -0.8]])
     columns = np.ascontiguousarray(inverse.T)  # row c: K⁻¹ e_c
     shared = kd.Shared(
-        stiffness_band=band, factor_band=factor_band, mass=np.full(n, 2.0),
+        stiffness_band=band, factor_band=factor_band, stiffness_rows=symmetric_rows(band),
+        lower_rows=lower_rows(factor_band), upper_rows=upper_rows(factor_band), mass=np.full(n, 2.0),
         pantograph_mass=np.array([7.0, 12.0]), pantograph_damping=np.array([[20.0, -20.0], [-20.0, 50.0]]),
         pantograph_stiffness=np.array([[800.0, -800.0], [-800.0, 1500.0]]), pantograph_inverse=np.linalg.inv(k_pan),
         column_of=np.arange(n, dtype=np.int64), columns=columns, head_dof=np.array([6], dtype=np.int64),

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from presag_opt.dynamics import kernel, kernel_data
-from presag_opt.native.banded_numba import backward_substitution
 
 
 def _dense(band):
@@ -17,10 +16,11 @@ def _dense(band):
 
 
 def test_the_banded_product(synthetic_batch):
-    band = synthetic_batch().shared.stiffness_band
+    shared = synthetic_batch().shared
+    band = shared.stiffness_band
     x = np.random.default_rng(0).normal(size=(6, 3))
     out = np.zeros((6, 3))
-    kernel.band_matvec(band, x, out, 2)  # the first two columns only
+    kernel.band_matvec(band, shared.stiffness_rows, x, out, 2)  # the first two columns only
     np.testing.assert_allclose(out[:, :2], _dense(band) @ x[:, :2], rtol=1e-14, atol=1e-9)
     assert np.all(out[:, 2] == 0.0)
 
@@ -33,7 +33,7 @@ def test_sweeps_one_and_two_give_delta_lin_and_the_residual_at_the_predictor(syn
     st.q[:, 0] = 1e-4 * rng.normal(size=6)
     w.scale[0] = w.first_residual[0] = 0.0
     kernel.forward_sweep(sc, sh, st, w, 1)
-    backward_substitution(sh.factor_band, w.delta, 1)
+    kernel.backward_sweep(sh, w, 1)
     s = sc.scheme.s
     linear = _dense(sh.stiffness_band) @ st.q[:, 0] + sc.rayleigh_alpha * sh.mass * st.v[:, 0]
     g = st.r[:, 0] - s * linear

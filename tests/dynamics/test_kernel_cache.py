@@ -62,7 +62,7 @@ def _run(root: Path) -> dict:
 def test_the_kernel_depends_on_the_laws_and_every_kernel_file():
     files = {Path(f).name for f in jit.dependency_files(kernel.advance.py_func)}
     assert {"kernel.py", "batch_newton.py", "batch_forces.py", "batch_woodbury.py", "batch_predictor.py",
-            "batch_update.py", "laws.py", "sweeps.py", "banded_numba.py", "linearised.py"} <= files
+            "batch_update.py", "laws.py", "sweeps.py", "linearised.py"} <= files
 
 
 def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path):

@@ -38,7 +38,8 @@ def test_the_statuses_are_distinct_and_ok_is_zero():
 
 
 def test_the_tuples_name_every_field_the_sweeps_read():
-    assert kd.Shared._fields[:2] == ("stiffness_band", "factor_band") and len(kd.Shared._fields) == 22
+    assert kd.Shared._fields[:5] == ("stiffness_band", "factor_band", "stiffness_rows", "lower_rows", "upper_rows")
+    assert len(kd.Shared._fields) == 25
     # a run's static line is its own (installed lines share a structure), not the batch's
     assert {"cw_height", "dropper_preload"} <= set(kd.Runs._fields)
     assert not {"cw_height", "dropper_preload"} & set(kd.Shared._fields)
