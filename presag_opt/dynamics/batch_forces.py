@@ -15,7 +15,7 @@ single-run path calls plainly). The arrays are the named tuples of
 from __future__ import annotations
 
 from presag_opt.dynamics import laws
-from presag_opt.native.jit import inline, kernel_function
+from presag_opt.native.jit import inline
 
 contact_stiffness = inline(laws.contact_stiffness)
 contact_force = inline(laws.contact_force)
@@ -26,7 +26,7 @@ dropper_slack = inline(laws.dropper_slack)
 dropper_tension = inline(laws.dropper_tension)
 
 
-@kernel_function
+@inline
 def enter_set(dof, set_dofs, set_force, tangent, position, count):
     """Position of ``dof`` in the current nonlinear set, adding it (zero force and tangent) if new;
     returns (its position, the new set size).
@@ -193,7 +193,7 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
     return count, slack_recorded
 
 
-@kernel_function
+@inline
 def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
     """Nonlinear forces and Newton tangent ∂f/∂u + a1 ∂f/∂v of run ``b`` at record ``step``.
 

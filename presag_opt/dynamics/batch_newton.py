@@ -26,12 +26,12 @@ from presag_opt.dynamics.batch_predictor import pantograph_predictor, predictor_
 from presag_opt.dynamics.batch_update import fail_run, finish_step, update_iterate
 from presag_opt.dynamics.batch_woodbury import woodbury_correction
 from presag_opt.dynamics.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE, STATUS_OK, STATUS_RUNNING
-from presag_opt.native.jit import kernel_function
+from presag_opt.native.jit import inline
 
 __all__ = ["STATUS_NOT_CONVERGED", "STATUS_NOT_FINITE", "STATUS_OK", "STATUS_RUNNING", "newton_step"]
 
 
-@kernel_function
+@inline
 def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
     """Newton iteration of run ``b`` for record ``step`` (see the module notes).
 

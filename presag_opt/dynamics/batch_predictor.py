@@ -174,7 +174,7 @@ def residual_at_predictor(b, s, shared, state, work, scratch, pan):
     for i in range(candidate_rows.shape[0]):
         j = candidate_rows[i]
         f0 = set_force[position[j]] if position[j] >= 0 else 0.0
-        largest_term = max(largest_term, abs(s * (linear[i, b] + f0)), abs(rhs[j, b]))
+        largest_term = max(largest_term, abs(s * (linear[j, b] + f0)), abs(rhs[j, b]))
         largest = max(largest, abs(s * f0 - g[i, b]))
     p_linear, p_rhs, p_g = pan.linear, pan.rhs, pan.g
     for i in range(p_linear.shape[0]):

@@ -7,8 +7,8 @@ and its forces and residual s (f − φ) on the set follow (:func:`iterate_resid
 (:func:`finish_step`) φ's catenary part goes to sweep 3 of :mod:`presag_opt.dynamics.kernel`
 (:func:`hand_phi_to_sweep`), the pantographs take their new state (:func:`update_pantographs`), the
 final residual joins the right-hand side (:func:`join_residual`), and a run that converged at its
-predictor gets the right-hand side that makes sweep 3 exact (:func:`converged_at_predictor`,
-:func:`linear_column`). The arrays are the named tuples of :mod:`presag_opt.dynamics.kernel_data`.
+predictor gets the right-hand side that makes sweep 3 exact (:func:`converged_at_predictor`, from
+sweep 1's C ṽ + K ũ). The arrays are the named tuples of :mod:`presag_opt.dynamics.kernel_data`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 from presag_opt.dynamics.batch_forces import enter_set, nonlinear_forces
 from presag_opt.dynamics.batch_woodbury import influence
 from presag_opt.dynamics.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
-from presag_opt.native.jit import inline, kernel_function
+from presag_opt.native.jit import inline
 
 
 @inline
@@ -219,11 +219,10 @@ def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan)
         Run ``b``'s pantograph predictors.
     """
     s = scalars.scheme.s
-    rhs, delta, delta_lin = state.r, work.delta, pan.delta_lin
+    rhs, delta, linear, delta_lin = state.r, work.delta, work.linear, pan.delta_lin
     set_force, residual = scratch.set_force, scratch.residual
-    linear_column(b, scalars, shared, state, delta)
     for j in range(shared.mass.shape[0]):
-        rhs[j, b] = s * delta[j, b]
+        rhs[j, b] = s * linear[j, b]  # C ṽ + K ũ from sweep 1
         delta[j, b] = 0.0
     for i in range(delta_lin.shape[0]):
         delta_lin[i] = 0.0
@@ -385,29 +384,3 @@ def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out
     hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan)
     update_pantographs(b, taken, scalars, shared, state, pan)
     join_residual(b, step, count, slack, s, shared, state, out, scratch)
-
-
-@kernel_function
-def linear_column(b, scalars, shared, state, out):
-    """out[:, b] = C ṽ + K ũ of run ``b`` (α_R M ṽ + K q), for a run that converged at its predictor. [N]
-
-    Parameters
-    ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : ndarray, shape (n, n_runs)
-        Array receiving the column. [N]
-    """
-    band, mass, v, q = shared.stiffness_band, shared.mass, state.v, state.q
-    start, column, value = shared.stiffness_rows
-    for j in range(band.shape[0]):
-        acc = band[j, 0] * q[j, b] + scalars.rayleigh_alpha * mass[j] * v[j, b]
-        for e in range(start[j], start[j + 1]):
-            acc += value[e] * q[column[e], b]
-        out[j, b] = acc

@@ -28,10 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.native.jit import inline, kernel_function
+from presag_opt.native.jit import inline
 
 
-@kernel_function
+@inline
 def influence(j, m, n, column_of, columns, pantograph_inverse):
     """Entry (j, m) of K_eff⁻¹ on the extended DOFs (catenary and pantographs are uncoupled in
     K_eff: 0 between them). [m/N]

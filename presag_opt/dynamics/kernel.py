@@ -290,8 +290,8 @@ def finish_step(step, active, runs, out):
 
 @kernel_function
 def forward_sweep(scalars, shared, state, work, active):
-    """Sweep 1 of a step for the first ``active`` runs: C ṽ + K ũ row by row from the window of q,
-    g = rhs − s (C ṽ + K ũ) (kept on the candidate rows), the force scale and residual at the
+    """Sweep 1 of a step for the first ``active`` runs: C ṽ + K ũ row by row from the window of q
+    (kept on every row), g = rhs − s (C ṽ + K ũ) (kept on the candidate rows), the force scale and residual at the
     predictor on the other rows, and the forward substitution of K_eff δ_lin = g.
 
     Parameters
@@ -324,12 +324,12 @@ def forward_sweep(scalars, shared, state, work, active):
             value, i = k_value[e], k_column[e]
             for b in range(active):
                 acc[b] += value * q[i, b]
+        for b in range(active):
+            linear[j, b] = acc[b]
         c = candidate_index[j]
         if c >= 0:
             for b in range(active):
-                lin = acc[b]
-                gj = r[j, b] - s * lin
-                linear[c, b] = lin
+                gj = r[j, b] - s * acc[b]
                 g[c, b] = gj
                 acc[b] = gj
         else:

@@ -152,8 +152,8 @@ class Records(NamedTuple):
 
 
 class Work(NamedTuple):
-    """Per-step arrays of a batch: ``delta`` δ [m] (DOF, lane); on the candidate rows
-    ``linear`` = C ṽ + K ũ and ``g`` = rhs − s (C ṽ + K ũ) [N] (row, lane); per lane the force
+    """Per-step arrays of a batch: ``delta`` δ [m] and ``linear`` = C ṽ + K ũ [N] (DOF, lane); on
+    the candidate rows ``g`` = rhs − s (C ṽ + K ũ) [N] (row, lane); per lane the force
     ``scale`` and the ``first_residual`` at the predictor [N]; per run the count, columns and
     coefficients s φ [N] of φ's catenary part (``phi_count``, ``phi_column``,
     ``phi_coefficient``)."""
@@ -240,7 +240,7 @@ def make_work(shared: Shared, n_runs: int, lanes: int | None = None) -> Work:
     return Work(
         delta=np.zeros((n, lanes)),
         g=np.zeros((n_candidates, lanes)),
-        linear=np.zeros((n_candidates, lanes)),
+        linear=np.zeros((n, lanes)),
         scale=np.zeros(lanes),
         first_residual=np.zeros(lanes),
         phi_count=np.zeros(n_runs, dtype=np.int64),

@@ -32,12 +32,10 @@ static inline int64_t min64(int64_t a, int64_t b) { return a < b ? a : b; }
 /* g = r - s lin of one lane on a row: kept on a candidate row (c >= 0), else folded into the force
    scale and the residual at the predictor. Returns g. */
 static inline double right_hand_side(double lin, double rj, double s, int64_t c, int64_t lane, int64_t ld,
-                                     double *restrict linear, double *restrict g, double *restrict scale,
-                                     double *restrict first_residual)
+                                     double *restrict g, double *restrict scale, double *restrict first_residual)
 {
     const double gj = rj - s * lin;
     if (c >= 0) {
-        linear[c * ld + lane] = lin;
         g[c * ld + lane] = gj;
     } else {
         double largest = scale[lane];
@@ -49,7 +47,7 @@ static inline double right_hand_side(double lin, double rj, double s, int64_t c,
     return gj;
 }
 
-/* Sweep 1: C v + K u = alpha_R M v + K q row by row, g = r - s (C v + K u), the force scale and
+/* Sweep 1: C v + K u = alpha_R M v + K q row by row (kept on every row), g = r - s (C v + K u), the force scale and
    residual on rows no nonlinear force reaches, and the forward substitution of K_eff delta = g;
    one or two blocks of lanes per pass. K's off-diagonal entries are k_start/k_column/k_value, the
    factor's left of its diagonal l_start/l_column/l_value. */
@@ -80,12 +78,15 @@ void presag_forward_sweep(
                 if (two)
                     for (int i = 0; i < LANES; i++) c[i] += value * qk[LANES + i];
             }
+            for (int i = 0; i < LANES; i++) linear[row + i] = a[i];
+            if (two)
+                for (int i = 0; i < LANES; i++) linear[row + LANES + i] = c[i];
             const int64_t cand = candidate[j];
             for (int i = 0; i < LANES; i++)
-                a[i] = right_hand_side(a[i], r[row + i], s, cand, b0 + i, ld, linear, g, scale, first_residual);
+                a[i] = right_hand_side(a[i], r[row + i], s, cand, b0 + i, ld, g, scale, first_residual);
             if (two)
                 for (int i = 0; i < LANES; i++)
-                    c[i] = right_hand_side(c[i], r[row + LANES + i], s, cand, b0 + LANES + i, ld, linear, g, scale,
+                    c[i] = right_hand_side(c[i], r[row + LANES + i], s, cand, b0 + LANES + i, ld, g, scale,
                                            first_residual);
             for (int64_t e = l_start[j]; e < l_start[j + 1]; e++) {
                 const double value = l_value[e];

@@ -72,15 +72,18 @@ def test_the_end_of_the_step(synthetic_batch):
     assert out.contact_force[0, 0, 2] == 77.0 and out.slack_max[0] == max(slack_before, 3)
 
 
-def test_the_linear_column_is_c_v_plus_k_u(synthetic_batch):
+def test_a_run_converged_at_its_predictor_takes_sweep_ones_c_v_plus_k_u_as_its_right_hand_side(synthetic_batch):
+    """δ = 0 everywhere, rhs = s (C ṽ + K ũ) on every row from sweep 1's ``linear``, R = s f0 on the set,
+    the pantographs' δ_lin zero; the other runs' columns untouched."""
     batch = synthetic_batch()
-    sh, st = batch.shared, batch.state
-    st.q[:, 0] = np.linspace(-1e-3, 2e-3, batch.n)
-    out = np.zeros((batch.n, 1))
-    batch_update.linear_column(0, batch.scalars, sh, st, out)
-    k = np.diag(sh.stiffness_band[:, 0]) + np.diag(sh.stiffness_band[:-1, 1], 1) + np.diag(sh.stiffness_band[:-1, 1], -1)
-    expected = k @ st.q[:, 0] + batch.scalars.rayleigh_alpha * sh.mass * st.v[:, 0]
-    np.testing.assert_allclose(out[:, 0], expected, rtol=1e-13, atol=1e-12 * np.max(np.abs(expected)))
+    sh, st, w, sc, c = batch.shared, batch.state, batch.work, batch.scratch, batch.scalars.scheme
+    w.linear[:, 0] = np.linspace(-30.0, 40.0, batch.n)
+    sc.set_force[:2] = [12.0, -3.0]
+    pan = batch_predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    pan.delta_lin[:] = [1e-3, -2e-3]
+    batch_update.converged_at_predictor(0, 2, batch.scalars, sh, st, w, sc, pan)
+    assert np.array_equal(st.r[:, 0], c.s * w.linear[:, 0]) and np.all(w.delta[:, 0] == 0.0)
+    assert np.all(pan.delta_lin == 0.0) and np.array_equal(sc.residual[:2], c.s * np.array([12.0, -3.0]))
 
 
 def test_a_failed_run_keeps_its_reason(synthetic_batch):

@@ -39,7 +39,7 @@ def test_sweeps_one_and_two_give_delta_lin_and_the_residual_at_the_predictor(syn
     g = st.r[:, 0] - s * linear
     np.testing.assert_allclose(batch.k_cat @ w.delta[:, 0], g, rtol=0, atol=1e-10 * np.max(np.abs(g)))
     np.testing.assert_allclose(w.g[:2, 0], g[:2], rtol=1e-13)  # kept on the candidate rows
-    np.testing.assert_allclose(w.linear[:2, 0], linear[:2], rtol=1e-13)
+    np.testing.assert_allclose(w.linear[:, 0], linear, rtol=1e-13)  # C ṽ + K ũ kept on every row
     others = slice(2, 6)  # the force scale and the residual at the predictor on the other rows
     assert np.isclose(w.first_residual[0], np.max(np.abs(g[others])), rtol=1e-13)
     assert np.isclose(w.scale[0], max(np.max(np.abs(s * linear[others])), np.max(np.abs(st.r[others, 0]))),
