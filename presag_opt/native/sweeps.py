@@ -1,13 +1,13 @@
 """The batch simulator's sweeps over all DOFs as compiled C (``sweeps.c``), called from numba.
 
 :func:`presag_opt.dynamics.kernel.advance` spends nearly all of a step in three sweeps over the
-catenary's DOFs. Written in numba, each run keeps its accumulator in memory, and the
-load-add-store chain through it costs about 15 processor cycles per band entry however many runs
-share the step: a 12-run step of the case study (8 502 DOFs, bandwidth 20) takes 4.5 ms, a 1-run step
-2.3 ms. ``sweeps.c`` does the same operations in the same order with the runs in blocks of eight
-whose accumulators stay in vector registers; it gives the same numbers to the last bit
-(``tests/dynamics/test_native_sweeps.py``) and takes 2.3 ms for the 12-run step, 1.4 ms for the
-1-run step (``benchmarks/bench_batch.py`` compares whole batches: about 2.2 times faster).
+catenary's DOFs, over the bands' nonzero entries (:mod:`presag_opt.dynamics.band_rows`). Written in
+numba, each run keeps its accumulator in memory, and the load-add-store chain through it costs about
+15 processor cycles per entry however many runs share the step. ``sweeps.c`` does the same
+operations in the same order with the runs in blocks of eight whose accumulators stay in vector
+registers; it gives the same numbers to the last bit (``tests/dynamics/test_native_sweeps.py``), and
+a batch of 10 runs of the paper's grid takes 10.2 s with it against 17.2 s in numba
+(``benchmarks/bench_batch.py``).
 
 The library is built once per machine by :func:`presag_opt.native.build` (``-O3
 -march=native -ffp-contract=off``: tuned to the processor, no fused multiply-add, no fast-math) and
