@@ -129,9 +129,16 @@ os.replace(done + ".tmp", done)
 """Warms the cache of the package the tests import and then that of the installed package (the
 second is a quick cache hit when they are the same files), then writes the done file."""
 
-KERNEL_FREE = ("tests/docs/", "tests/static/", "tests/system/", "tests/native/", "tests/elasticity/",
-               "tests/test_mirror.py", "tests/test_style.py", "tests/test_layering.py", "tests/test_errors.py")
-"""Test files that never run the batch kernel: they run first and do not wait for its compilation."""
+KERNEL_FREE = (
+    "tests/docs/", "tests/static/", "tests/system/", "tests/native/", "tests/elasticity/", "tests/design/", "tests/test_",
+    "tests/cli/test_line.py", "tests/cli/test_static.py",
+    *(f"tests/robust/test_{name}.py" for name in ("buildability", "installation", "lp", "monte_carlo", "path",
+                                                    "realisation", "rounding", "span_design", "study", "tolerance")),
+    *(f"tests/sensitivity/test_{name}.py" for name in ("methods", "quasi_static", "reference", "screening")),
+)
+"""Test files that never run the batch kernel (checked by running them alone with an empty
+``NUMBA_CACHE_DIR``: no kernel function was cached): they run first and do not wait for its
+compilation. A file listed here that does run the kernel only compiles it itself."""
 
 _kernel_warm = False
 _needs_kernel = True
@@ -209,7 +216,9 @@ run on one worker."""
 
 def pytest_collection_modifyitems(config, items):
     """Kernel-free files first (they run while the kernel compiles), the longest files first within
-    each group; otherwise the collection order (a stable sort, the same on every xdist worker)."""
+    each group; otherwise the collection order (a stable sort, the same on every xdist worker). xdist
+    hands the files out in this order because ``--no-loadscope-reorder`` (pyproject's addopts) keeps
+    it from sorting them by their number of tests."""
     global _needs_kernel
     _needs_kernel = any(not _test_path(item).startswith(KERNEL_FREE) for item in items)
 
