@@ -38,7 +38,7 @@ from presag_opt.dynamics.batch_forces import nonlinear_forces
 from presag_opt.dynamics.batch_newton import newton_step
 from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import kernel_function
+from presag_opt.native.jit import inline, kernel_function
 
 
 @kernel_function
@@ -310,7 +310,6 @@ def forward_sweep(scalars, shared, state, work, active):
     stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
                                                           shared.candidate_index)
     k_start, k_column, k_value = shared.stiffness_rows
-    l_start, l_column, l_value = shared.lower_rows
     v, q, r = state.v, state.q, state.r
     delta, g, linear, scale, first_residual = work.delta, work.g, work.linear, work.scale, work.first_residual
     rayleigh_alpha, s = scalars.rayleigh_alpha, scalars.scheme.s
@@ -339,13 +338,36 @@ def forward_sweep(scalars, shared, state, work, active):
                 scale[b] = max(scale[b], abs(s * lin), abs(r[j, b]))
                 first_residual[b] = max(first_residual[b], abs(gj))
                 acc[b] = gj
-        for e in range(l_start[j], l_start[j + 1]):
-            value, i = l_value[e], l_column[e]
-            for b in range(active):
-                acc[b] -= value * delta[i, b]
-        d = factor_band[j, 0]
+        substitute_row(j, shared.lower_rows, factor_band[j, 0], delta, acc, active)
+
+
+@inline
+def substitute_row(j, rows, pivot, x, acc, active):
+    """One row of a triangular substitution: x[j, :active] = (acc − Σ value · x[column]) / pivot over
+    row j's entries of ``rows``, in their order.
+
+    Parameters
+    ----------
+    j : int
+        Row. [-]
+    rows : BandRows
+        The triangle's off-diagonal nonzeros by rows. [sqrt(N/m)]
+    pivot : float
+        The diagonal entry of row j. [sqrt(N/m)]
+    x : ndarray, shape (n, n_runs)
+        The solution so far (the rows the entries reach are done), row j written. [m·sqrt(N/m) or m]
+    acc : ndarray, shape (active,)
+        Row j's right-hand side, used as the accumulator. [unit of x · pivot]
+    active : int
+        Number of leading columns. [-]
+    """
+    start, column, value = rows
+    for e in range(start[j], start[j + 1]):
+        entry, i = value[e], column[e]
         for b in range(active):
-            delta[j, b] = acc[b] / d
+            acc[b] -= entry * x[i, b]
+    for b in range(active):
+        x[j, b] = acc[b] / pivot
 
 
 @kernel_function
@@ -363,18 +385,11 @@ def backward_sweep(shared, work, active):
         Number of leading runs (columns) the sweep covers. [-]
     """
     factor_band, delta = shared.factor_band, work.delta
-    u_start, u_column, u_value = shared.upper_rows
     acc = np.empty(active)
     for j in range(factor_band.shape[0] - 1, -1, -1):
         for b in range(active):
             acc[b] = delta[j, b]
-        for e in range(u_start[j], u_start[j + 1]):
-            value, i = u_value[e], u_column[e]
-            for b in range(active):
-                acc[b] -= value * delta[i, b]
-        d = factor_band[j, 0]
-        for b in range(active):
-            delta[j, b] = acc[b] / d
+        substitute_row(j, shared.upper_rows, factor_band[j, 0], delta, acc, active)
 
 
 @kernel_function
