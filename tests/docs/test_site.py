@@ -159,7 +159,9 @@ def test_the_site_opens_without_console_errors_and_its_search_finds_a_word(site,
         hits = json.loads(_evaluate(chromium, SEARCH_HITS) or "[]")
         time.sleep(0.2)
     errors["search.html"] = chromium.console_errors()
-    assert not any(errors.values()), errors
+    # the failure names each error's page and text (a console entry's ``text``, else the whole event)
+    assert not any(errors.values()), {page: [e["params"].get("entry", e["params"]).get("text", e) for e in seen]
+                                      for page, seen in errors.items() if seen}
     assert hits, "the search for 'elasticity' found nothing"
     assert any("lasticity" in hit for hit in hits), hits
     assert (tmp_path / "glossary.png").stat().st_size > 10_000  # a page was drawn
