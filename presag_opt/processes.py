@@ -106,14 +106,26 @@ def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED) -> It
     pool.shutdown(wait=True)
 
 
+STOP_WAIT = 5.0
+"""Longest wait for a stopped pool's manager thread to notice its killed workers. [s]"""
+
+
 def stop(pool: ProcessPoolExecutor) -> None:
-    """Drop the pool's queued tasks and kill its worker processes without waiting for them."""
+    """Drop the pool's queued tasks and kill its worker processes without waiting for their tasks.
+
+    The pool's manager thread (in this process) is then given up to :data:`STOP_WAIT` seconds to
+    see the workers gone and close its pipes, so that the interpreter does not exit under it (it
+    would report a closed pipe as a raw traceback on stderr after the command's last line).
+    """
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)
     pool.shutdown(wait=False, cancel_futures=True)
     # SIGKILL, not SIGTERM: it cannot be caught, so a task cannot turn it into an exception
     for process in processes:
         if process.is_alive():
             process.kill()
+    if manager is not None and manager is not threading.current_thread():
+        manager.join(STOP_WAIT)
 
 
 def _start_worker(parent: int) -> None:

@@ -75,7 +75,7 @@ def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
         process.send_signal(signal.SIGTERM)
         out, err = process.communicate(timeout=30)
         assert process.returncode == 130
-        assert err.strip().splitlines()[-1] == "presag: interrupted"
+        assert err.strip().splitlines()[-1] == "presag: interrupted", err
         assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 10), "a worker outlived the command"
     finally:
         try:
