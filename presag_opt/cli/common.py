@@ -460,3 +460,22 @@ def print_warnings(messages: Iterable[str]) -> None:
 def shown_warnings() -> list[str]:
     """The warnings the running command has shown so far, in order."""
     return list(_SHOWN_WARNINGS)
+
+
+def add_plot_option(parser: argparse.ArgumentParser, figures: str) -> None:
+    """``--plot DIR``, the one kind of plot option: the command's figures as PNG files in a folder.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The sub-command's parser.
+    figures : str
+        What the command draws, for the help text.
+    """
+    parser.add_argument("--plot", metavar="DIR", default=None,
+                        help=f"save {figures} as PNG files into this folder (created if missing)")
+
+
+def plot_folder(args: argparse.Namespace) -> Path | None:
+    """The checked ``--plot`` folder (before any work), or None without ``--plot``."""
+    return output_folder(args.plot, "--plot") if getattr(args, "plot", None) else None

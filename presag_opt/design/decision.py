@@ -1,32 +1,30 @@
-"""One decision: which pre-sag to build, from the answers the toolkit has, with its reason.
+"""One decision: which pre-sag to build, from the evidence the toolkit has, with its margins and reason.
 
-The toolkit has several answers to "which S?" for an operating band: the quasi-static Δe rule (the
-mean of the S_rel range ends over the band, the paper's case-study recommendation), the quasi-static
-robust design (the minimax parabola of the path waviness over the F_m band) and the dynamic robust
-design (chosen by batched dynamic simulation over the band's static forces and speeds). Each comes
-with what is known about it: a tolerance interval (quasi-static from the robust LP, dynamic from the
-dynamic design) and a steady-arm uplift (a static estimate F_m·e_mast, or the dynamic maximum).
+The answers to "which S?" are the quasi-static Δe rule, the quasi-static robust design (with its
+tolerance interval) and the dynamic robust design (with its dynamic tolerance interval); the
+evidence (:mod:`presag_opt.design.evidence`) also holds a validity sweep, a dynamic check and the
+crew's build tolerance. :func:`decide` runs once per command, in this order:
 
-The procedure (:func:`decide`), in order:
+1. **Validity.** The one statement of :mod:`presag_opt.design.validity_limit`: the quasi-static
+   answers are trusted where the band's largest β is at or below the low end of the limit in force.
+2. **Uplift compatibility.** Where no pre-sag keeps the steady-arm uplift within its limit over the
+   band (read from the validity sweep, the dynamic robust design, or the answers' uplifts), the
+   status is ``uplift-bound`` and the decision gives the highest static force at which one does (the
+   static force is then set by uplift compatibility, not by contact dynamics).
+3. **The answer to build from.** A trusted quasi-static answer (the robust design before the Δe
+   rule: it carries a tolerance of its own); where the quasi-static answers are not trusted, the
+   dynamic robust design; without it the decision is ``provisional`` and shows the quasi-static one.
+4. **Margin.** The tolerance intervals in force are the dynamic one and, where the quasi-static
+   answers are trusted and it overlaps the dynamic one, the quasi-static one. The answer is built
+   where its margin to every end of their intersection is at least the crew's build tolerance;
+   otherwise the pre-sag with the largest margin inside the intersection (and the uplift within its
+   limit) is built instead, and the reason says so. Where the intersection is narrower than twice the
+   crew tolerance the status is ``tolerance-bound``: the band cannot be met with that crew, and the
+   pre-sag with the largest margin is still named.
+5. **Status.** ``decided`` where the dynamic tolerance is known; ``provisional`` where it was not
+   computed (the quasi-static interval alone is not a dynamic check).
 
-1. **Uplift compatibility.** If the uplift limit is exceeded by every answer whose uplift is known
-   dynamically (or, without dynamic results, by the static estimate of every answer), no S keeps the
-   limit over the band: the decision says so and gives the highest static force at which one does
-   (the static force is then set by uplift compatibility, not by contact dynamics). The S shown is
-   the best remaining answer, marked not buildable for this band.
-2. **Validity.** The quasi-static answers are trusted where the band's largest speed ratio β_max lies
-   at or below the lower end of the validity limit: β* − its uncertainty when a validity study was
-   read, else the paper's onset of the weakening, β = 0.35 (its limit 0.4 with the σ/F_m minimum
-   already weakening from 0.35).
-3. **Tolerance and uplift.** A trusted quasi-static answer is built if it lies inside the dynamic
-   tolerance interval and its uplift is within the limit (dynamic where known, else the static
-   estimate); the robust design is preferred to the Δe rule, since it is the one that carries a
-   tolerance interval of its own. Without a dynamic tolerance interval the decision is provisional.
-4. **Otherwise the dynamic robust design**, if it was computed and keeps the uplift limit. If it was
-   not computed (a fast command), the decision is *provisional*: the best quasi-static answer is
-   shown with what was not checked and the command that checks it.
-
-The alternatives are always listed beside the choice.
+Every answer is shown beside the choice, with its margins.
 
 References
 ----------
@@ -37,12 +35,13 @@ railway catenary systems", Railway Sciences (2025), doi:10.1108/RS-05-2025-0016:
 
 from __future__ import annotations
 
-import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from presag_opt.contact_force import mean_contact_force
-from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
-from presag_opt.errors import ModelError
+import numpy as np
+
+from presag_opt.design.evidence import RECORDS, Evidence
+from presag_opt.design.validity_limit import ValidityStatement
 
 DELTA_E_RULE = "quasi-static Δe rule"
 QUASI_STATIC_ROBUST = "quasi-static robust design"
@@ -50,107 +49,67 @@ DYNAMIC_ROBUST = "dynamic robust design"
 METHOD_ORDER = (QUASI_STATIC_ROBUST, DELTA_E_RULE, DYNAMIC_ROBUST)
 """Answers in order of preference among those that qualify."""
 
-PAPER_WEAKENING_BETA = 0.35
-"""Speed ratio from which the paper's σ/F_m minimum weakens (gone by 0.41): the quasi-static answers
-are trusted up to here when no validity study was read. [-]"""
+LARGEST_MARGIN = "the largest margin inside the tolerance intervals"
+"""The basis of a pre-sag built at the largest margin rather than at one method's answer."""
+
+STATUSES = ("decided", "provisional", "tolerance-bound", "uplift-bound")
+"""What a decision can be: final; waiting for the dynamic tolerance; not buildable within the crew's
+tolerance; not buildable within the uplift limit."""
+
+QUASI_STATIC_TOLERANCE = "quasi-static tolerance"
+DYNAMIC_TOLERANCE = "dynamic tolerance"
+
+_GRID = 801
+"""Points across the intersection searched for the largest margin (a 7 mm interval at < 0.01 mm). [-]"""
 
 
 @dataclass(frozen=True, kw_only=True)
-class Candidate:
-    """One answer to "which S?".
+class Answer:
+    """One method's answer to "which S?".
 
     Attributes
     ----------
     method : str
         One of :data:`METHOD_ORDER`.
     presag_rel : float
-        Its relative pre-sag S/l. [-]
-    tolerance : tuple of float or None
-        Its own tolerance interval of S_rel, if it has one. [-]
+        Its S_rel. [-]
     uplift : float or None
-        Largest steady-arm uplift over the band at this S, if known. [m]
-    uplift_dynamic : bool
-        Whether ``uplift`` comes from dynamic simulation (else a static estimate F_m·e_mast).
+        Best-known largest steady-arm uplift over the band at this S. [m]
+    uplift_kind : str
+        ``"dynamic"`` or ``"static estimate"`` (empty if unknown).
     """
 
     method: str
     presag_rel: float
-    tolerance: tuple[float, float] | None = None
-    uplift: float | None = None
-    uplift_dynamic: bool = False
-
-    def __post_init__(self) -> None:
-        if self.method not in METHOD_ORDER:
-            raise ModelError(f"candidate method {self.method!r} is not one of {', '.join(METHOD_ORDER)}")
-        if not 0.0 <= self.presag_rel <= 0.005:
-            raise ModelError(f"{self.method}: presag_rel = {self.presag_rel * 1e3:g} ‰ is outside the valid range [0, 5] ‰")
-
-    @property
-    def quasi_static(self) -> bool:
-        """Whether the answer rests on the quasi-static model."""
-        return self.method != DYNAMIC_ROBUST
+    uplift: float | None
+    uplift_kind: str
 
 
 @dataclass(frozen=True, kw_only=True)
-class DecisionInputs:
-    """What the decision is made from.
+class Interval:
+    """A tolerance interval of S_rel the decision knows.
 
     Attributes
     ----------
-    candidates : tuple of Candidate
-        The answers computed (at least one).
-    beta_max : float
-        Largest speed ratio v/c_CW of the band. [-]
-    beta_limit : float or None
-        Validity limit β* read from a study, None if none was read or it could not be read. [-]
-    beta_limit_uncertainty : float
-        Its uncertainty (half the β grid step). [-]
-    beta_limit_source : str
-        What ``beta_limit`` is, where it is not a β* read from a study (e.g. the lowest β of a study
-        whose grid shows the rule holding at none of its speeds); empty for a β*.
-    dynamic_tolerance : tuple of float or None
-        S_rel interval within the allowed loss of the dynamic optimum, if computed. [-]
-    uplift_limit : float
-        Largest allowed steady-arm uplift. [m]
-    highest_static_force : float or None
-        Highest static force at which some S keeps the uplift limit over the band, if known. [N]
-    lowest_static_force_checked : float or None
-        Lowest static force the uplift was checked at, where ``highest_static_force`` is None because
-        none kept the limit. [N]
-    some_presag_keeps_uplift : bool or None
-        Whether some pre-sag checked dynamically (not only the candidates) keeps the uplift limit over
-        the whole band; None if unknown (then the candidates' uplifts decide).
-    not_checked : tuple of str
-        What was not computed (shown with the decision).
+    name : str
+        :data:`QUASI_STATIC_TOLERANCE` or :data:`DYNAMIC_TOLERANCE`.
+    low, high : float
+        Its ends. [-]
+    in_force : bool
+        Whether the built pre-sag must keep a margin to it.
+    why_not : str
+        Why it is not in force (empty where it is).
     """
 
-    candidates: tuple[Candidate, ...]
-    beta_max: float
-    beta_limit: float | None = None
-    beta_limit_uncertainty: float = 0.0
-    beta_limit_source: str = ""
-    dynamic_tolerance: tuple[float, float] | None = None
-    uplift_limit: float = STEADY_ARM_UPLIFT_LIMIT
-    highest_static_force: float | None = None
-    lowest_static_force_checked: float | None = None
-    some_presag_keeps_uplift: bool | None = None
-    not_checked: tuple[str, ...] = ()
+    name: str
+    low: float
+    high: float
+    in_force: bool
+    why_not: str = ""
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "candidates", tuple(self.candidates))
-        if not self.candidates:
-            raise ModelError("decision: give at least one candidate pre-sag")
-        if not (math.isfinite(self.beta_max) and 0.0 <= self.beta_max < 1.0):
-            raise ModelError(f"decision: beta_max = {self.beta_max:g} is outside the valid range [0, 1)")
-        if not 0.0 < self.uplift_limit <= 1.0:
-            raise ModelError(f"decision: uplift_limit = {self.uplift_limit * 1e3:g} mm is outside the valid range (0, 1000] mm")
-
-    @property
-    def trusted_beta(self) -> float:
-        """β up to which the quasi-static answers are trusted (see the module docstring). [-]"""
-        if self.beta_limit is None:
-            return PAPER_WEAKENING_BETA
-        return self.beta_limit - self.beta_limit_uncertainty
+    def margins(self, presag_rel: float) -> tuple[float, float]:
+        """Distance of a pre-sag above the low end and below the high end (negative: outside). [-]"""
+        return (presag_rel - self.low, self.high - presag_rel)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -159,209 +118,311 @@ class Decision:
 
     Attributes
     ----------
-    chosen : Candidate
-        The answer to build (or, if ``status`` is not ``decided``, the one shown).
+    presag_rel : float
+        S_rel to build (or, for ``uplift-bound``, the answer shown). [-]
+    basis : str
+        The method whose answer is built, or :data:`LARGEST_MARGIN`.
     status : str
-        ``decided``; ``provisional`` (the answer that would decide was not computed); or
-        ``uplift-bound`` (no S keeps the uplift limit over the band).
+        One of :data:`STATUSES`.
     reason : str
         Why, in one or two sentences.
-    alternatives : tuple of Candidate
-        The other answers.
-    inputs : DecisionInputs
-        What it was made from.
+    answers : tuple of Answer
+        Every method's answer, in :data:`METHOD_ORDER`.
+    intervals : tuple of Interval
+        Every tolerance interval known.
+    uplift : float or None
+        Best-known steady-arm uplift at the built pre-sag. [m]
+    uplift_kind : str
+        ``"dynamic"`` or ``"static estimate"``.
+    highest_static_force : float or None
+        For ``uplift-bound``: the highest static force at which some pre-sag keeps the limit, if known. [N]
+    validity : ValidityStatement
+        The validity statement of the band.
+    evidence : Evidence
+        What the decision was made from.
     """
 
-    chosen: Candidate
+    presag_rel: float
+    basis: str
     status: str
     reason: str
-    alternatives: tuple[Candidate, ...]
-    inputs: DecisionInputs
+    answers: tuple[Answer, ...]
+    intervals: tuple[Interval, ...]
+    uplift: float | None
+    uplift_kind: str
+    highest_static_force: float | None
+    validity: ValidityStatement
+    evidence: Evidence
 
-    def headline(self, span_length: float) -> str:
-        """One line: what to build on a span of ``span_length``, by which method, and the status.
+    @property
+    def reference_span(self) -> float:
+        """Span length on which pre-sags are quoted in mm. [m]"""
+        return self.evidence.reference_span
+
+    @property
+    def missing(self) -> tuple[str, ...]:
+        """The kinds of evidence not computed (:meth:`Evidence.missing`)."""
+        return self.evidence.missing()
+
+    def answer(self, method: str) -> Answer | None:
+        """One method's answer, or None if it was not computed."""
+        return next((a for a in self.answers if a.method == method), None)
+
+    def margin(self) -> float | None:
+        """Smallest margin of the built pre-sag to an interval in force (None without one). [-]"""
+        values = [m for i in self.intervals if i.in_force for m in i.margins(self.presag_rel)]
+        return min(values) if values else None
+
+    def mm(self, presag_rel: float) -> float:
+        """A relative pre-sag in mm on the reference span. [mm]"""
+        return presag_rel * self.reference_span * 1e3
+
+    def headline(self, span_lengths: Sequence[float] | None = None) -> str:
+        """One line: what to build, by which basis, and the status.
 
         Parameters
         ----------
-        span_length : float
-            Span length the relative pre-sag is applied to. [m]
+        span_lengths : sequence of float, optional
+            A line's span lengths: the pre-sag is then S_rel × span length, with its range in mm. [m]
         """
-        c = self.chosen
-        text = f"{c.presag_rel * 1e3:.2f} ‰ = {c.presag_rel * span_length * 1e3:.0f} mm on {span_length:g} m ({c.method})"
-        if self.status == "uplift-bound":
-            return f"No pre-sag keeps the steady-arm uplift limit over this band (best answer shown: {text})"
-        if self.status == "provisional":
-            return f"Pre-sag to build (provisional): {text}"
-        return f"Pre-sag to build: {text}"
+        if span_lengths:
+            lo, hi = min(span_lengths), max(span_lengths)
+            size = (f"{self.presag_rel * 1e3:.2f} ‰ × span length ({self.presag_rel * lo * 1e3:.0f}–"
+                    f"{self.presag_rel * hi * 1e3:.0f} mm on {lo:g}–{hi:g} m spans)")
+        else:
+            size = f"{self.presag_rel * 1e3:.2f} ‰ = {self.mm(self.presag_rel):.0f} mm on {self.reference_span:g} m"
+        text = f"{size} ({self.basis})"
+        return {
+            "decided": f"Pre-sag to build: {text}",
+            "provisional": f"Pre-sag to build (provisional): {text}",
+            "tolerance-bound": (f"The band cannot be met with a crew tolerance of "
+                                f"±{self.evidence.installation.half_width * 1e3:.1f} mm; largest margin at {text}"),
+            "uplift-bound": f"No pre-sag keeps the steady-arm uplift limit over this band (best answer shown: {text})",
+        }[self.status]
 
-    def lines(self, span_length: float) -> list[str]:
-        """The decision as printed: headline, reason, what was not checked, the alternatives.
+    def not_checked(self, options: Mapping[str, str]) -> list[str]:
+        """What was not checked, each with the option of the running command that would supply it.
 
         Parameters
         ----------
-        span_length : float
-            Span length the relative pre-sag is applied to. [m]
+        options : mapping of str to str
+            Evidence name (a key of :data:`~presag_opt.design.evidence.RECORDS`) to the option or
+            command that supplies it; a missing name is shown as not offered by this command.
         """
-        out = [self.headline(span_length), f"  why: {self.reason}"]
-        details = (_uplift_text(self.chosen, self.inputs.uplift_limit) + _tolerance_text(self.chosen, span_length)).strip(", ")
-        if details:
-            out.append(f"  chosen: {details}")
-        if self.inputs.not_checked:
-            out.append("  not checked: " + "; ".join(self.inputs.not_checked))
-        for c in self.alternatives:
-            out.append(f"  alternative: {c.method} {c.presag_rel * 1e3:.2f} ‰ = {c.presag_rel * span_length * 1e3:.0f} mm"
-                       + _uplift_text(c, self.inputs.uplift_limit) + _tolerance_text(c, span_length))
+        return [f"{RECORDS[key]} ({options.get(key, 'not offered by this command')})" for key in self.missing]
+
+    def lines(self, options: Mapping[str, str] | None = None, span_lengths: Sequence[float] | None = None) -> list[str]:
+        """The decision as printed: headline, reason, margins, validity, uplift, what was not checked,
+        the alternatives.
+
+        Parameters
+        ----------
+        options : mapping of str to str, optional
+            See :meth:`not_checked`.
+        span_lengths : sequence of float, optional
+            See :meth:`headline`. [m]
+        """
+        out = [self.headline(span_lengths), f"  why: {self.reason}"]
+        crew = self.evidence.installation
+        margins = [self._margin_text(i, self.presag_rel) for i in self.intervals]
+        out.append("  margins: " + ("; ".join(margins) if margins else "no tolerance interval known")
+                   + f"; crew tolerance {crew.describe()}")
+        out.append(f"  {self.validity.sentence()}")
+        limit = self.evidence.uplift_limit * 1e3
+        if self.uplift is not None:
+            out.append(f"  steady-arm uplift: {self.uplift * 1e3:.1f} mm ({self.uplift_kind}; limit {limit:g} mm)")
+        if self.highest_static_force is not None:
+            out.append(f"  highest static force keeping the uplift limit: {self.highest_static_force:.0f} N")
+        missing = self.not_checked(options or {})
+        if missing:
+            out.append("  not checked: " + "; ".join(missing))
+        for a in self.answers:
+            chosen = abs(a.presag_rel - self.presag_rel) <= 1e-12 and a.method == self.basis
+            if chosen:
+                continue
+            where = "; ".join(self._margin_text(i, a.presag_rel) for i in self.intervals)
+            uplift = "" if a.uplift is None else f", uplift {a.uplift * 1e3:.1f} mm ({a.uplift_kind})"
+            out.append(f"  alternative: {a.method} {a.presag_rel * 1e3:.2f} ‰ = {self.mm(a.presag_rel):.1f} mm"
+                       + uplift + (f"; {where}" if where else ""))
         return out
 
-    def to_dict(self, span_length: float) -> dict:
+    def _margin_text(self, interval: Interval, presag_rel: float) -> str:
+        below, above = (self.mm(m) for m in interval.margins(presag_rel))
+        status = "" if interval.in_force else f", not in force: {interval.why_not}"
+        inside = "inside" if min(below, above) >= 0 else "OUTSIDE"
+        return (f"{interval.name} {self.mm(interval.low):.1f}–{self.mm(interval.high):.1f} mm: {inside}, "
+                f"{below:+.1f} / {above:+.1f} mm to its ends{status}")
+
+    def to_dict(self, span_lengths: Sequence[float] | None = None) -> dict:
         """JSON-ready content in ‰, mm and N.
 
         Parameters
         ----------
-        span_length : float
-            Span length the relative pre-sag is applied to. [m]
+        span_lengths : sequence of float, optional
+            See :meth:`headline`. [m]
         """
-        def one(c: Candidate) -> dict:
-            return {"method": c.method, "presag_rel_permille": c.presag_rel * 1e3,
-                    "presag_mm": c.presag_rel * span_length * 1e3,
-                    "tolerance_mm": None if c.tolerance is None else [t * span_length * 1e3 for t in c.tolerance],
-                    "uplift_mm": None if c.uplift is None else c.uplift * 1e3, "uplift_dynamic": c.uplift_dynamic}
+        def answer(a: Answer) -> dict:
+            return {"method": a.method, "presag_rel_permille": a.presag_rel * 1e3, "presag_mm": self.mm(a.presag_rel),
+                    "uplift_mm": None if a.uplift is None else a.uplift * 1e3, "uplift_kind": a.uplift_kind,
+                    "margins_mm": [[self.mm(m) for m in i.margins(a.presag_rel)] for i in self.intervals]}
 
-        inputs = self.inputs
-        return {"status": self.status, "headline": self.headline(span_length), "reason": self.reason,
-                "span_length_m": span_length, "chosen": one(self.chosen),
-                "alternatives": [one(c) for c in self.alternatives], "beta_max": inputs.beta_max,
-                "beta_trusted_up_to": inputs.trusted_beta, "uplift_limit_mm": inputs.uplift_limit * 1e3,
-                "highest_static_force_N": inputs.highest_static_force, "not_checked": list(inputs.not_checked)}
+        crew = self.evidence.installation
+        margin = self.margin()
+        return {
+            "status": self.status, "headline": self.headline(span_lengths), "reason": self.reason,
+            "basis": self.basis, "presag_rel_permille": self.presag_rel * 1e3, "presag_mm": self.mm(self.presag_rel),
+            "reference_span_m": self.reference_span,
+            "intervals": [{"name": i.name, "low_mm": self.mm(i.low), "high_mm": self.mm(i.high),
+                           "in_force": i.in_force, "why_not": i.why_not,
+                           "margins_mm": [self.mm(m) for m in i.margins(self.presag_rel)]} for i in self.intervals],
+            "margin_mm": None if margin is None else self.mm(margin),
+            "crew_tolerance_mm": crew.half_width * 1e3, "crew_tolerance_kind": crew.kind,
+            "crew_tolerance_source": crew.source,
+            "uplift_mm": None if self.uplift is None else self.uplift * 1e3, "uplift_kind": self.uplift_kind,
+            "uplift_limit_mm": self.evidence.uplift_limit * 1e3, "highest_static_force_N": self.highest_static_force,
+            "validity": self.validity.to_dict(), "answers": [answer(a) for a in self.answers],
+            "not_checked": list(self.missing),
+        }
 
 
-def decide(inputs: DecisionInputs) -> Decision:
+def decide(evidence: Evidence) -> Decision:
     """Pick the pre-sag to build (the procedure of the module docstring).
 
     Parameters
     ----------
-    inputs : DecisionInputs
-        The candidates and what is known about the band.
+    evidence : Evidence
+        The records of the band and what every decision needs.
 
     Returns
     -------
     Decision
     """
-    order = sorted(inputs.candidates, key=lambda c: METHOD_ORDER.index(c.method))
-    limit = inputs.uplift_limit
-    dynamic = next((c for c in order if c.method == DYNAMIC_ROBUST), None)
+    validity = evidence.validity()
+    limit = evidence.uplift_limit
+    answers = _answers(evidence)
+    intervals = _intervals(evidence, validity)
 
-    def alternatives(chosen: Candidate) -> tuple[Candidate, ...]:
-        return tuple(c for c in order if c is not chosen)
+    def result(presag_rel: float, basis: str, status: str, reason: str, highest: float | None = None) -> Decision:
+        uplift, kind = evidence.uplift_at(presag_rel)
+        if basis == DYNAMIC_ROBUST:
+            uplift, kind = evidence.dynamic_robust.uplift, "dynamic"
+        return Decision(presag_rel=presag_rel, basis=basis, status=status, reason=reason, answers=answers,
+                        intervals=intervals, uplift=uplift, uplift_kind=kind, highest_static_force=highest,
+                        validity=validity, evidence=evidence)
 
-    def result(chosen: Candidate, status: str, reason: str) -> Decision:
-        return Decision(chosen=chosen, status=status, reason=reason, alternatives=alternatives(chosen), inputs=inputs)
-
-    # 1. uplift compatibility: judged on dynamic uplifts where there are any, else on the static estimates
-    known = [c for c in order if c.uplift is not None and c.uplift_dynamic] or [c for c in order if c.uplift is not None]
-    all_over = bool(known) and all(c.uplift > limit for c in known)
-    if inputs.some_presag_keeps_uplift is False or (inputs.some_presag_keeps_uplift is None and all_over):
-        best = min(known, key=lambda c: c.uplift) if known else order[0]
-        kind = "dynamic" if best.uplift_dynamic else "static estimate"
-        force = inputs.highest_static_force
-        floor = inputs.lowest_static_force_checked
-        tail = (f"; the highest static force at which one does is {force:.0f} N" if force is not None
-                else f"; not even at the lowest static force checked, {floor:.0f} N" if floor is not None
-                else "; the highest static force at which one does was not computed")
-        answers = (f" (the answers' uplift, {kind}: at least {best.uplift * 1e3:.1f} mm)" if best.uplift is not None
-                   else "")
-        return result(best, "uplift-bound",
+    # 2. uplift compatibility
+    if _no_presag_keeps_uplift(evidence, answers):
+        known = [a for a in answers if a.uplift is not None]
+        best = min(known, key=lambda a: a.uplift) if known else answers[0]
+        highest = (evidence.validity_sweep.highest_static_force(limit)
+                   if evidence.validity_sweep is not None and evidence.validity_sweep.has_uplift
+                   else evidence.static_force_estimate)
+        tail = (f"; the highest static force at which one does is {highest:.0f} N" if highest is not None
+                else f"; not even at the band's lowest static force, {evidence.static_force_floor:.0f} N")
+        shown = f" (the answers' uplift: at least {best.uplift * 1e3:.1f} mm, {best.uplift_kind})" if best.uplift else ""
+        return result(best.presag_rel, best.method, "uplift-bound",
                       f"no pre-sag checked keeps the steady-arm uplift within the limit {limit * 1e3:g} mm over the "
-                      f"band{answers}{tail}: the static force is set by uplift compatibility here, not by contact "
-                      "dynamics")
+                      f"band{shown}{tail}: the static force is set by uplift compatibility here, not by contact "
+                      "dynamics", highest)
 
-    # 2. validity of the quasi-static answers
-    trusted = inputs.beta_max <= inputs.trusted_beta + 1e-12
-    if inputs.beta_limit is None:
-        source = f"the paper's onset of the limit, β = {PAPER_WEAKENING_BETA:g}"
-    elif inputs.beta_limit_source:
-        source = inputs.beta_limit_source
+    # 3. the answer to build from
+    quasi = [a for a in answers if a.method != DYNAMIC_ROBUST]
+    dynamic = next((a for a in answers if a.method == DYNAMIC_ROBUST), None)
+    if validity.trusted and quasi:
+        preferred, why = quasi[0], "the quasi-static answers hold over the band"
+    elif dynamic is not None:
+        preferred, why = dynamic, ("the quasi-static answers are not trusted at this band's speeds: the dynamic "
+                                   "robust design decides")
     else:
-        source = f"the validity study's β* = {inputs.beta_limit:.2f} ± {inputs.beta_limit_uncertainty:.2f}"
-    relation = "at or below" if trusted else "above" if inputs.beta_max > inputs.trusted_beta else "not below"
-    beta_text = f"the band's β_max = {inputs.beta_max:.2f} is {relation} {source}"
+        preferred, why = quasi[0], ("the quasi-static answers are not trusted at this band's speeds, and the dynamic "
+                                    "robust design, which decides there, was not computed")
 
-    # 3. a trusted quasi-static answer inside the dynamic tolerance and within the uplift limit
-    problems = {}
-    for c in order:
-        if not c.quasi_static:
+    # 4. margin
+    crew = evidence.installation.half_width / evidence.reference_span
+    in_force = [i for i in intervals if i.in_force]
+    provisional = evidence.dynamic_robust is None
+    status = "provisional" if provisional else "decided"
+    if not in_force:
+        return result(preferred.presag_rel, preferred.method, status, f"{why}; no tolerance interval is known, so "
+                      "no margin could be checked")
+    low, high = max(i.low for i in in_force), min(i.high for i in in_force)
+    names = " and ".join(f"{i.name} ({_mm(evidence, i.low)}–{_mm(evidence, i.high)} mm)" for i in in_force)
+    margin = min(preferred.presag_rel - low, high - preferred.presag_rel)
+    if margin >= crew - 1e-12 and _keeps(evidence, preferred.presag_rel):
+        return result(preferred.presag_rel, preferred.method, status,
+                      f"{why}; {preferred.method} keeps a margin of {_mm(evidence, margin)} mm to the {names}, at least "
+                      f"the crew's ±{evidence.installation.half_width * 1e3:.1f} mm")
+    grid = np.linspace(low, high, _GRID)
+    feasible = grid[[_keeps(evidence, s) for s in grid]]
+    if feasible.size == 0:
+        return result(preferred.presag_rel, preferred.method, "uplift-bound",
+                      f"{why}; no pre-sag inside the {names} keeps the steady-arm uplift within "
+                      f"{limit * 1e3:g} mm", evidence.static_force_estimate)
+    margins = np.minimum(feasible - low, high - feasible)
+    best = float(feasible[np.lexsort((np.abs(feasible - preferred.presag_rel), -np.round(margins, 12)))[0]])
+    best_margin = float(min(best - low, high - best))
+    place = ("outside them" if margin < 0 else f"{_mm(evidence, margin)} mm from an end" if margin < crew
+             else "where the steady-arm uplift is over its limit")
+    moved = (f"{why}; {preferred.method} ({_mm(evidence, preferred.presag_rel)} mm) lies {place} of the {names}")
+    if best_margin < crew - 1e-12:
+        return result(best, LARGEST_MARGIN, "tolerance-bound",
+                      f"{moved}; their intersection is {_mm(evidence, high - low)} mm wide, less than twice the "
+                      f"crew's ±{evidence.installation.half_width * 1e3:.1f} mm: the largest margin, "
+                      f"{_mm(evidence, best_margin)} mm, is at {_mm(evidence, best)} mm")
+    return result(best, LARGEST_MARGIN, status,
+                  f"{moved}; built at {_mm(evidence, best)} mm instead, the largest margin inside their intersection "
+                  f"({_mm(evidence, best_margin)} mm, at least the crew's ±{evidence.installation.half_width * 1e3:.1f} mm)")
+
+
+def _mm(evidence: Evidence, presag_rel: float) -> str:
+    return f"{presag_rel * evidence.reference_span * 1e3:.1f}"
+
+
+def _keeps(evidence: Evidence, presag_rel: float) -> bool:
+    """Whether the best-known uplift at a pre-sag is within the limit (unknown counts as kept)."""
+    uplift, _ = evidence.uplift_at(presag_rel)
+    return uplift is None or uplift <= evidence.uplift_limit
+
+
+def _answers(evidence: Evidence) -> tuple[Answer, ...]:
+    """Every method's answer with its best-known uplift, in :data:`METHOD_ORDER`."""
+    out = []
+    for method, record in ((QUASI_STATIC_ROBUST, evidence.quasi_static_robust), (DELTA_E_RULE, evidence.delta_e),
+                           (DYNAMIC_ROBUST, evidence.dynamic_robust)):
+        if record is None:
             continue
-        issues = []
-        tol = inputs.dynamic_tolerance
-        if tol is not None and not tol[0] - 1e-12 <= c.presag_rel <= tol[1] + 1e-12:
-            issues.append(f"outside the dynamic tolerance {tol[0] * 1e3:.2f}–{tol[1] * 1e3:.2f} ‰")
-        if c.uplift is not None and c.uplift > limit:
-            issues.append(f"uplift {c.uplift * 1e3:.1f} mm over the limit {limit * 1e3:g} mm")
-        problems[c.method] = issues
-        if trusted and not issues:
-            checked = "inside the dynamic tolerance" if tol is not None else "the dynamic tolerance was not computed"
-            uplift = _uplift_text(c, limit).strip(", ")
-            return result(c, "decided" if tol is not None else "provisional",
-                          f"{beta_text}, so the quasi-static answers hold; {c.method}: {checked}"
-                          + (f", {uplift}" if uplift else ""))
-    # 4. the dynamic robust design
-    why = "; ".join(([] if trusted else [beta_text]) + [f"{m}: {', '.join(i)}" for m, i in problems.items() if i])
-    if dynamic is not None and (dynamic.uplift is None or dynamic.uplift <= limit):
-        return result(dynamic, "decided", f"{why}: the dynamic robust design decides")
+        if method == DYNAMIC_ROBUST:
+            uplift, kind = record.uplift, "dynamic"
+        else:
+            uplift, kind = evidence.uplift_at(record.presag_rel)
+        out.append(Answer(method=method, presag_rel=record.presag_rel, uplift=uplift, uplift_kind=kind))
+    return tuple(out)
+
+
+def _intervals(evidence: Evidence, validity: ValidityStatement) -> tuple[Interval, ...]:
+    """The known tolerance intervals and whether each is in force (see the module docstring)."""
+    out = []
+    dynamic = evidence.dynamic_robust
     if dynamic is not None:
-        return result(dynamic, "uplift-bound", f"{why}; the dynamic robust design's uplift "
-                      f"{dynamic.uplift * 1e3:.1f} mm is over the limit {limit * 1e3:g} mm")
-    shown = next((c for c in order if not problems.get(c.method)), order[0])
-    return result(shown, "provisional", f"{why}: the dynamic robust design decides here and was not computed "
-                  "(presag robust --dynamic); the quasi-static answer is shown until then")
+        out.append(Interval(name=DYNAMIC_TOLERANCE, low=dynamic.tolerance[0], high=dynamic.tolerance[1], in_force=True))
+    quasi = evidence.quasi_static_robust
+    if quasi is not None:
+        low, high = quasi.tolerance
+        why_not = ("" if validity.trusted else "the quasi-static answers are not trusted at this band's speeds")
+        if not why_not and dynamic is not None and (high < dynamic.tolerance[0] or low > dynamic.tolerance[1]):
+            why_not = "it does not overlap the dynamic tolerance, which the simulation decides"
+        out.append(Interval(name=QUASI_STATIC_TOLERANCE, low=low, high=high, in_force=not why_not, why_not=why_not))
+    return tuple(out)
 
 
-def _uplift_text(c: Candidate, limit: float) -> str:
-    if c.uplift is None:
-        return ""
-    kind = "dynamic" if c.uplift_dynamic else "static estimate"
-    return f", steady-arm uplift {c.uplift * 1e3:.1f} mm ({kind}; limit {limit * 1e3:g} mm)"
-
-
-def _tolerance_text(c: Candidate, span_length: float) -> str:
-    if c.tolerance is None:
-        return ""
-    return f", tolerance {c.tolerance[0] * span_length * 1e3:.0f}–{c.tolerance[1] * span_length * 1e3:.0f} mm"
-
-
-def highest_static_force_static(support_elasticity: float, limit: float, aero_coefficient: float,
-                                speed_high: float) -> float:
-    """Highest static force whose static uplift estimate keeps the limit at the top speed. [N]
-
-    F_m·e_mast ≤ limit with F_m = F_stat + α_ae·v², so F_stat ≤ limit/e_mast − α_ae·v².
-
-    Parameters
-    ----------
-    support_elasticity : float
-        Largest elasticity at a steady arm. [m/N]
-    limit : float
-        Steady-arm uplift limit. [m]
-    aero_coefficient : float
-        α_ae. [N s²/m²]
-    speed_high : float
-        Highest speed of the band. [m/s]
-    """
-    # F_m = F_stat + α_ae v² solved for F_stat at the largest F_m the limit allows
-    return limit / support_elasticity - mean_contact_force(0.0, speed_high, aero_coefficient)
-
-
-def dynamic_candidate(design, tolerance=None) -> Candidate:
-    """The dynamic robust design as a candidate.
-
-    Parameters
-    ----------
-    design : DynamicRobustDesign
-        From :func:`presag_opt.robust.dynamic_design.dynamic_robust_presag` (read by its ``presag_rel``
-        [-] and ``uplift_max`` [m]; the design layer does not import the robust one).
-    tolerance : DynamicTolerance, optional
-        From :func:`presag_opt.robust.dynamic_design.dynamic_tolerance` (its ``low`` and ``high`` [-]);
-        pass it also as :attr:`DecisionInputs.dynamic_tolerance`.
-    """
-    return Candidate(method=DYNAMIC_ROBUST, presag_rel=float(design.presag_rel),
-                     tolerance=None if tolerance is None else (float(tolerance.low), float(tolerance.high)),
-                     uplift=float(design.uplift_max), uplift_dynamic=True)
+def _no_presag_keeps_uplift(evidence: Evidence, answers: Sequence[Answer]) -> bool:
+    """Whether the evidence shows that no pre-sag keeps the uplift limit over the band."""
+    limit = evidence.uplift_limit
+    if evidence.dynamic_robust is not None and evidence.dynamic_robust.uplift <= limit:
+        return False  # the dynamic search keeps the limit as a constraint: a pre-sag that keeps it exists
+    sweep = evidence.validity_sweep
+    if sweep is not None and sweep.has_uplift:
+        return not sweep.some_presag_keeps_uplift(limit)
+    known = [a for a in answers if a.uplift is not None and a.uplift_kind == "dynamic"]
+    known = known or [a for a in answers if a.uplift is not None]
+    return bool(known) and all(a.uplift > limit for a in known)

@@ -31,14 +31,7 @@ from presag_opt.design.band import (
     force_levels_for_band,
     mean_force_grid,
 )
-from presag_opt.design.decision import (
-    DELTA_E_RULE,
-    Candidate,
-    Decision,
-    DecisionInputs,
-    decide,
-    highest_static_force_static,
-)
+from presag_opt.design.evidence import DeltaERule
 from presag_opt.design.quasi_static import PRESAG_METHODS, check_method
 from presag_opt.design.section import (
     SectionElasticity,
@@ -151,6 +144,26 @@ class LayoutRecommendation:
         }
 
 
+def presag_rel_range(section: SectionElasticity, low: float, high: float, method: str = "delta-e") -> tuple[float, float]:
+    """Smallest and largest section S_rel (mean over its spans) over an F_m band: the range the rule
+    gives, on F_m at most 1 N apart with the band's ends and every force level. [-]
+
+    Parameters
+    ----------
+    section : SectionElasticity
+        Curves whose force levels bracket the band.
+    low, high : float
+        The F_m band. [N]
+    method : {"delta-e", "mid-mast"}
+        Variant of the rule.
+    """
+    levels = section.force_levels
+    check_levels_cover(levels, low, high)
+    mean_forces = mean_force_grid(levels[0], levels[-1], [low, high, *levels])
+    values = section.presag_rel_curve(mean_forces, method)[(mean_forces >= low) & (mean_forces <= high)]
+    return (float(values.min()), float(values.max()))
+
+
 def layout_recommendation(
     section: SectionElasticity, band: OperatingBand, method: str = "delta-e", speed: SpeedContext | None = None
 ) -> LayoutRecommendation:
@@ -180,8 +193,6 @@ def layout_recommendation(
         speed = speed_context(section.catenary.contact_wire, band.speed_low, band.speed_high)
     mean_forces = mean_force_grid(levels[0], levels[-1], [low, high, *levels])
     curves = {m: section.presag_rel_curve(mean_forces, m) for m in PRESAG_METHODS}
-    in_band = (mean_forces >= low) & (mean_forces <= high)
-    chosen = curves[method][in_band]
     at_high = section.presag(high, method)
     return LayoutRecommendation(
         section=section,
@@ -192,7 +203,7 @@ def layout_recommendation(
         presag_rel_delta_e=curves["delta-e"],
         at_band_low=section.presag(low, method),
         at_band_high=at_high,
-        presag_rel_range=(float(chosen.min()), float(chosen.max())),
+        presag_rel_range=presag_rel_range(section, low, high, method),
         steady_arm_uplift=StaticSteadyArmUplift(
             mean_force=high, support_elasticity=float(at_high.support_elasticity.max())
         ),
@@ -222,9 +233,6 @@ class Recommendation:
         Validity and uplift warnings.
     recomputed : Recommendation or None
         The same study with the elasticity recomputed at the recommended pre-sag geometry.
-    decision : Decision or None
-        What to build (:mod:`presag_opt.design.decision`) from what this fast study checks: the Δe
-        rule, β against the paper's limit, the static uplift estimate; it lists what it did not check.
 
     References
     ----------
@@ -239,7 +247,6 @@ class Recommendation:
     nominal_span_length: float
     warnings: tuple[str, ...] = ()
     recomputed: Recommendation | None = None
-    decision: Decision | None = None
 
     @property
     def presag(self) -> float:
@@ -257,9 +264,15 @@ class Recommendation:
         return max(lay.speed.beta_max for lay in self.layouts)
 
     @property
-    def quasi_static_valid(self) -> bool:
-        """Whether the whole speed band lies within β ≤ 0.4 for every layout."""
-        return all(lay.speed.quasi_static_valid for lay in self.layouts)
+    def static_uplift(self) -> StaticSteadyArmUplift:
+        """The layouts' largest static steady-arm uplift estimate (at the top of the band)."""
+        return max(self.layouts, key=lambda lay: lay.steady_arm_uplift.uplift).steady_arm_uplift
+
+    def evidence(self) -> DeltaERule:
+        """The Δe rule as evidence for a decision (:mod:`presag_opt.design.evidence`)."""
+        uplift = self.static_uplift
+        return DeltaERule(presag_rel=self.presag_rel, presag_rel_range=self.presag_rel_range,
+                          static_uplift=uplift.uplift, support_elasticity=uplift.support_elasticity)
 
     def to_dict(self) -> dict:
         """JSON-ready content in edge units (mm, ‰, N, km/h)."""
@@ -270,7 +283,6 @@ class Recommendation:
             "presag_rel_range_permille": [low * 1e3, high * 1e3],
             "fm_band_N": list(self.mean_force_band),
             "beta_max": self.beta_max,
-            "quasi_static_valid": self.quasi_static_valid,
             "method": self.method,
             "nominal_span_length_m": self.nominal_span_length,
             "band": self.band.to_dict(),
@@ -279,8 +291,6 @@ class Recommendation:
         }
         if self.recomputed is not None:
             out["recomputed_at_recommended_geometry"] = self.recomputed.to_dict()
-        if self.decision is not None:
-            out["decision"] = self.decision.to_dict(self.nominal_span_length)
         return out
 
 
@@ -390,8 +400,7 @@ def recommend(
 
     layouts = study(catenaries)
     presag_rel = recommended_rel(layouts)
-    notes = [note for speed in speeds for note in speed.warnings]
-    notes += [
+    notes = [
         f"{lay.catenary_name}: static steady-arm uplift estimate {lay.steady_arm_uplift.uplift * 1e3:.1f} mm "
         f"at F_m = {high:.0f} N exceeds the limit {lay.steady_arm_uplift.limit * 1e3:g} mm"
         for lay in layouts
@@ -405,43 +414,4 @@ def recommend(
     if recompute_at_recommended:
         again = study([c.with_presag(presag_rel) for c in catenaries])
         recomputed = Recommendation(layouts=again, presag_rel=recommended_rel(again), **common)
-    return Recommendation(
-        layouts=layouts, presag_rel=presag_rel, warnings=tuple(notes), recomputed=recomputed,
-        decision=quick_decision(layouts, presag_rel, band), **common
-    )
-
-
-QUICK_NOT_CHECKED = (
-    "the quasi-static robust design and its tolerance (presag robust)",
-    "the validity limit read from a dynamic sweep, and the dynamic steady-arm uplift (presag report)",
-    "the dynamic robust design and its tolerance (this command with --dynamic-robust, or presag robust --dynamic)",
-)
-"""What a recommendation alone does not check (its decision lists them)."""
-
-
-def quick_decision(layouts: Sequence[LayoutRecommendation], presag_rel: float, band: OperatingBand) -> Decision:
-    """The decision from what a recommendation computes in seconds.
-
-    The Δe rule's S_rel (mean of the layouts' range ends) with the largest static uplift estimate
-    F_m,max·e_mast of the layouts; β_max against the paper's limit (no validity study); the highest
-    static force whose static uplift estimate keeps the limit at the top speed.
-
-    Parameters
-    ----------
-    layouts : sequence of LayoutRecommendation
-        The layouts' quasi-static results.
-    presag_rel : float
-        The Δe rule's S_rel. [-]
-    band : OperatingBand
-        Forces and speeds.
-    """
-    uplift = max(layouts, key=lambda lay: lay.steady_arm_uplift.uplift).steady_arm_uplift
-    candidate = Candidate(method=DELTA_E_RULE, presag_rel=presag_rel, uplift=uplift.uplift)
-    return decide(DecisionInputs(
-        candidates=(candidate,),
-        beta_max=max(lay.speed.beta_max for lay in layouts),
-        uplift_limit=uplift.limit,
-        highest_static_force=highest_static_force_static(uplift.support_elasticity, uplift.limit,
-                                                         band.aero_coefficient, band.speed_high),
-        not_checked=QUICK_NOT_CHECKED,
-    ))
+    return Recommendation(layouts=layouts, presag_rel=presag_rel, warnings=tuple(notes), recomputed=recomputed, **common)

@@ -1,8 +1,10 @@
 """Where a quasi-static pre-sag holds: the speed band against the wave speed, the steady-arm uplift.
 
-Holds :func:`speed_context` (wave speed, β = v/c_CW, Doppler factor, validity β ≤ 0.4) and the static
-steady-arm uplift estimate against the case study's limit. The wave-speed formulas themselves are in
-:mod:`presag_opt.speed`; the dynamic uplift comes from :mod:`presag_opt.dynamics`.
+Holds :func:`speed_context` (wave speed, β = v/c_CW, Doppler factor and the paper's validity
+statement of the band) and the static steady-arm uplift estimate against the case study's limit. The
+wave-speed formulas themselves are in :mod:`presag_opt.speed`; the validity limit and its one
+sentence in :mod:`presag_opt.design.validity_limit`; the dynamic uplift comes from
+:mod:`presag_opt.dynamics`.
 
 References
 ----------
@@ -15,12 +17,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from presag_opt.design.band import KMH
+from presag_opt.contact_force import KMH, mean_contact_force
+from presag_opt.design.validity_limit import PAPER_LIMIT, ValidityStatement, validity_statement
 from presag_opt.speed import doppler_factor, speed_ratio
 from presag_opt.system.components import Wire
 
-QUASI_STATIC_BETA_LIMIT = 0.4
-"""Speed ratio β = v/c_CW up to which the quasi-static rule matches dynamic simulation. [-]"""
+QUASI_STATIC_BETA_LIMIT = PAPER_LIMIT
+"""Speed ratio β = v/c_CW up to which the paper finds the quasi-static rule valid (the high end of its
+limit; :mod:`presag_opt.design.validity_limit` holds the whole statement). [-]"""
 
 STEADY_ARM_UPLIFT_LIMIT = 0.0835
 """Largest allowed steady-arm uplift of the case study (arms without uplift stop). [m]"""
@@ -40,10 +44,9 @@ class SpeedContext:
         Speed ratio β = v/c_CW at the ends of the band. [-]
     doppler_factor_min : float
         Doppler factor (c − v)/(c + v) at the highest speed (its smallest value). [-]
-    beta_limit : float
-        Validity limit of the quasi-static rule. [-]
-    warnings : tuple of str
-        Set when the band crosses or lies beyond the limit.
+    validity : ValidityStatement
+        The band against the paper's validity limit (a decision restates it with a validity sweep
+        where one was read).
 
     References
     ----------
@@ -57,18 +60,7 @@ class SpeedContext:
     beta_low: float
     beta_max: float
     doppler_factor_min: float
-    beta_limit: float
-    warnings: tuple[str, ...] = ()
-
-    @property
-    def quasi_static_valid(self) -> bool:
-        """Whether the whole band lies within β ≤ beta_limit."""
-        return self.beta_max <= self.beta_limit
-
-    @property
-    def limit_speed(self) -> float:
-        """Speed at which β reaches the limit. [m/s]"""
-        return self.beta_limit * self.wave_speed
+    validity: ValidityStatement
 
     def to_dict(self) -> dict:
         """JSON-ready content (m/s and km/h)."""
@@ -78,19 +70,12 @@ class SpeedContext:
             "beta_low": self.beta_low,
             "beta_max": self.beta_max,
             "doppler_factor_min": self.doppler_factor_min,
-            "beta_limit": self.beta_limit,
-            "limit_speed_kmh": self.limit_speed / KMH,
-            "quasi_static_valid": self.quasi_static_valid,
+            "validity": self.validity.to_dict(),
         }
 
 
-def speed_context(
-    contact_wire: Wire, speed_low: float, speed_high: float, beta_limit: float = QUASI_STATIC_BETA_LIMIT
-) -> SpeedContext:
-    """Wave speed, speed ratios, Doppler factor and validity of the quasi-static rule for a band.
-
-    When the band crosses ``beta_limit`` or lies above it, the result's ``warnings`` say so
-    (:func:`~presag_opt.design.recommendation.recommend` passes them on as :class:`UserWarning`).
+def speed_context(contact_wire: Wire, speed_low: float, speed_high: float) -> SpeedContext:
+    """Wave speed, speed ratios, Doppler factor and the paper's validity statement for a band.
 
     Parameters
     ----------
@@ -98,8 +83,6 @@ def speed_context(
         The contact wire (tension and mass per metre).
     speed_low, speed_high : float
         Speed band. [m/s]
-    beta_limit : float
-        Validity limit of the quasi-static rule. [-]
 
     Returns
     -------
@@ -117,17 +100,6 @@ def speed_context(
     c = contact_wire.wave_speed
     beta_low = speed_ratio(speed_low, c)
     beta_max = speed_ratio(speed_high, c)
-    notes = []
-    if beta_low > beta_limit:
-        notes.append(
-            f"the whole speed band ({speed_low / KMH:g}–{speed_high / KMH:g} km/h, β = {beta_low:.2f}–{beta_max:.2f}) "
-            f"lies above β = {beta_limit:g}: the quasi-static pre-sag rule does not hold there"
-        )
-    elif beta_max > beta_limit:
-        notes.append(
-            f"the speed band crosses β = {beta_limit:g} at {beta_limit * c / KMH:.0f} km/h (β_max = {beta_max:.2f}): "
-            "the quasi-static pre-sag rule holds only below that speed"
-        )
     return SpeedContext(
         wave_speed=c,
         speed_low=float(speed_low),
@@ -135,8 +107,7 @@ def speed_context(
         beta_low=beta_low,
         beta_max=beta_max,
         doppler_factor_min=doppler_factor(speed_high, c),
-        beta_limit=beta_limit,
-        warnings=tuple(notes),
+        validity=validity_statement(c, speed_high),
     )
 
 
@@ -181,3 +152,24 @@ class StaticSteadyArmUplift:
             "limit_mm": self.limit * 1e3,
             "within_limit": self.within_limit,
         }
+
+
+def highest_static_force_static(support_elasticity: float, limit: float, aero_coefficient: float,
+                                speed_high: float) -> float:
+    """Highest static force whose static uplift estimate keeps the limit at the top speed. [N]
+
+    F_m·e_mast ≤ limit with F_m = F_stat + α_ae·v², so F_stat ≤ limit/e_mast − α_ae·v².
+
+    Parameters
+    ----------
+    support_elasticity : float
+        Largest elasticity at a steady arm. [m/N]
+    limit : float
+        Steady-arm uplift limit. [m]
+    aero_coefficient : float
+        α_ae. [N s²/m²]
+    speed_high : float
+        Highest speed of the band. [m/s]
+    """
+    # F_m = F_stat + α_ae v² solved for F_stat at the largest F_m the limit allows
+    return limit / support_elasticity - mean_contact_force(0.0, speed_high, aero_coefficient)

@@ -55,13 +55,13 @@ def write_report(report: DesignReport, folder: str | Path) -> Path:
 
 def _figures(report: DesignReport, tmp: Path) -> dict[str, str]:
     """Every figure of the report as a data URL, by its id."""
-    rec = report.recommendation
+    rec = report.answer.recommendation
     paths = {"fig-presag": plot_presag_against_force(rec, tmp / "presag.png"),
-             "fig-waviness": plot_waviness(report.robust, tmp / "waviness.png")}
+             "fig-waviness": plot_waviness(report.answer.robust, tmp / "waviness.png")}
     for i, lay in enumerate(rec.layouts):
         study = lay.section.studies[len(lay.section.studies) // 2]
         paths[f"fig-elasticity-{i}"] = plot_elasticity(study, tmp / f"elasticity_{i}.png")
-    validity = save_validity_plots(report.validity.dataset, report.validity.result, tmp / "validity")
+    validity = save_validity_plots(report.answer.validity.dataset, report.answer.validity.result, tmp / "validity")
     by_name = {p.name: p for p in validity}
     paths["fig-validity"] = by_name["fig7_presag.png"]
     paths["fig-uplift"] = by_name["uplift.png"]
@@ -92,36 +92,29 @@ def _kmh(speed: float | None) -> str:
 
 
 def _page(report: DesignReport, figures: dict[str, str]) -> str:
-    rec, robust, validity, band = report.recommendation, report.robust, report.validity, report.band
-    l_ref = robust.reference_span
-    tol = robust.tolerance
+    answer = report.answer
+    rec, robust, validity, band, decision = (answer.recommendation, answer.robust, answer.validity, answer.band,
+                                             answer.decision)
+    l_ref = decision.reference_span
     low, high = rec.mean_force_band
-    recommended_mm = rec.presag_rel * l_ref * 1e3
-    inside = tol.low <= rec.presag_rel <= tol.high
     res = validity.result
-    limit_text = validity.text()
     top = band.speed_high
     uplift_band = validity.uplift_up_to(top)
-    limit = float(validity.dataset.attrs["uplift_limit"])
+    limit = decision.evidence.uplift_limit
     parts = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Pre-sag design report</title>"
              f"<style>{CSS}</style></head><body>"]
     parts.append(f"<h1>Pre-sag design report: {_e(', '.join(lay.catenary_name for lay in rec.layouts))}</h1>")
-    for note in validity.warnings:
-        parts.append(f"<p class='warn'>Note: {_e(note)}.</p>")
+    if validity.record.note:
+        parts.append(f"<p class='warn'>Note: {_e(validity.record.note)}.</p>")
     if report.quick:
-        parts.append("<p class='warn'>Draft (<code>--quick</code>): coarse numerics (1 m elements, 4 ms, a 2 × 2 × 2 "
-                     "sweep). Run the report without <code>--quick</code> for numbers to quote.</p>")
-    parts.append(decision_html(report.decision, l_ref))
+        parts.append("<p class='warn'>Draft (<code>--quick</code>): the validity sweep is two pre-sags × speeds × "
+                     "static forces at coarse numerics. Run the report without <code>--quick</code>, or with "
+                     "<code>--study</code>, for the validity range to quote.</p>")
+    parts.append(decision_html(decision, REPORT_OPTIONS))
     parts.append(
-        "<div class='summary' id='summary'><p><b>Quasi-static Δe rule</b> (mean of the layouts' range ends): S_rel = "
-        f"{rec.presag_rel * 1e3:.2f} ‰, that is {recommended_mm:.0f} mm on a {l_ref:g} m span (each span: S_rel × its "
-        f"length).</p><p><b>Installation tolerance</b> (worst-case waviness within {tol.within * 100:g} % of the "
-        f"robust optimum): {tol.low * l_ref * 1e3:.0f}–{tol.high * l_ref * 1e3:.0f} mm on {l_ref:g} m; the "
-        f"Δe rule lies {'inside' if inside else 'OUTSIDE'} it.</p>"
-        f"<p><b>Validity of the quasi-static rule</b>: {_e(limit_text)} (the paper's β = 0.4 is "
-        f"{_kmh(validity.paper_limit_speed)} here); the band reaches {_kmh(top)}.</p>"
-        f"<p><b>Steady-arm uplift</b> (dynamic, up to {_kmh(top)}): "
-        + ("no run at these speeds" if not math.isfinite(uplift_band) else
+        "<div class='summary' id='summary'>"
+        f"<p><b>Steady-arm uplift</b> (dynamic, the sweep's runs up to {_kmh(top)}): "
+        + ("no run at these speeds" if uplift_band is None else
            f"{uplift_band * 1e3:.1f} mm, {'within' if uplift_band <= limit else 'ABOVE'} the limit {limit * 1e3:g} mm")
         + ".</p></div>")
     parts.append("<h2>Operating band</h2>" + _table(
@@ -130,8 +123,9 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
           f"{band.speed_low / KMH:g}–{band.speed_high / KMH:g} km/h", f"{band.aero_coefficient * KMH**2:g} N/(km/h)²",
           f"{low:.1f}–{high:.1f} N"]]))
     parts.append("<h2 id='recommendation'>Quasi-static pre-sag over the band</h2><p>Quasi-static rule S = F_m·Δe over the "
-                 "F_m band, per layout; the Δe rule's answer is the mean of the range ends (the decision at the top "
-                 "of the page weighs it against the robust design).</p>" + _table(
+                 "F_m band, per layout; the Δe rule's answer is the mean of the range ends, "
+                 f"{rec.presag_rel * 1e3:.2f} ‰ = {rec.presag_rel * l_ref * 1e3:.0f} mm on {l_ref:g} m (the decision at "
+                 "the top of the page weighs it against the robust designs).</p>" + _table(
         ["layout", "system", "spans sized", "S_rel [‰]", f"S on {l_ref:g} m [mm]", "β at top speed [-]"],
         [[lay.layout_kind, lay.catenary_name, len(lay.section.spans),
           f"{lay.presag_rel_range[0] * 1e3:.2f}–{lay.presag_rel_range[1] * 1e3:.2f}",
@@ -140,13 +134,16 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     parts.append(_figure(figures, "fig-presag", "Quasi-static pre-sag against the mean contact force, both variants "
                                                 "of the rule, every layout; the operating band shaded."))
     weights = robust.scenarios.weights
+    tol = robust.tolerance
     parts.append("<h2 id='robust'>Robust design and tolerance band</h2><p>The pre-sag that minimises the worst "
-                 "waviness of the quasi-static pantograph path over the F_m band (minimax), beside the Δe rule at "
-                 f"the band centre; {_e(robust.catenary_name)}.</p>" + _table(
+                 "waviness of the quasi-static pantograph path over the F_m band (minimax), beside the Δe rule; "
+                 f"{_e(robust.catenary_name)}. Quasi-static tolerance (worst-case waviness within {tol.within * 100:g} % "
+                 f"of the optimum): {tol.low * l_ref * 1e3:.1f}–{tol.high * l_ref * 1e3:.1f} mm on {l_ref:g} m.</p>"
+                 + _table(
         ["design", f"S on {l_ref:g} m [mm]", "S_rel [‰]", "worst R [mm]", "mean R [mm]"],
         [[name, f"{d.presag_rel * l_ref * 1e3:.1f}", f"{d.presag_rel * 1e3:.3f}", f"{d.worst_case_waviness * 1e3:.1f}",
           f"{d.mean_waviness(weights) * 1e3:.1f}"]
-         for name, d in (("robust (minimax)", robust.robust_parabola), ("nominal Δe at band centre", robust.nominal))],
+         for name, d in (("robust (minimax)", robust.robust_parabola), ("Δe rule", robust.nominal))],
         {1, 2, 3, 4}))
     parts.append(_figure(figures, "fig-waviness", "Path waviness R against the parabolic pre-sag: worst case over the "
                                                   "band, single forces, the tolerance band shaded."))
@@ -159,8 +156,11 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     for i, lay in enumerate(rec.layouts):
         parts.append(_figure(figures, f"fig-elasticity-{i}", f"Elasticity along a sized span of the {lay.layout_kind} "
                                                              "layout at the computed force levels."))
+    if answer.dynamic is not None:
+        parts.append(_dynamic_section(answer.dynamic, l_ref))
     parts.append("<h2 id='validity'>Validity range in speed</h2>"
-                 f"<p>Source: {_e(validity.source)}.</p><p>{_e(limit_text)}. Criterion: {_e(res.criterion)}.</p>" + _table(
+                 f"<p>{_e(decision.validity.sentence())}.</p><p>Sweep: {_e(validity.source)}; it reads "
+                 f"{_e(validity.record.limit.reading())}. Criterion: {_e(res.criterion)}.</p>" + _table(
         ["β [-]", "speed [km/h]", "Δe rule holds"],
         [[f"{v.beta:.3f}", f"{v.speed / KMH:.0f}", "yes" if v.holds else "no"] for v in res.per_beta], {0, 1}))
     parts.append(_figure(figures, "fig-validity", "Dynamically near-optimal pre-sag (σ within 5 % of its minimum) per "
@@ -170,7 +170,7 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     dynamic = [] if res.uplift is None else [[
         "dynamic, largest of the study", f"{res.uplift.speed / KMH:.0f} km/h, F_stat {res.uplift.static_force:g} N",
         f"{res.uplift.maximum * 1e3:.1f}"]]
-    if math.isfinite(uplift_band):
+    if uplift_band is not None:
         dynamic.append([f"dynamic, speeds up to {_kmh(top)}", "–", f"{uplift_band * 1e3:.1f}"])
     parts.append(f"<h2 id='uplift'>Steady-arm uplift</h2><p>Limit {limit * 1e3:g} mm.</p>" + _table(
         ["estimate", "where", "uplift [mm]"], static_rows + dynamic, {2}))
@@ -190,20 +190,45 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     return "\n".join(parts)
 
 
-def decision_html(decision, span_length: float) -> str:
-    """The decision as the head of a page: what to build, why, what was not checked, the alternatives.
+REPORT_OPTIONS = {"validity_sweep": "--study STORE for a full study", "dynamic_robust": "--dynamic-robust",
+                  "installation_monte_carlo": "--dropper-error MM"}
+"""The options of ``presag report`` that supply each kind of evidence it can miss."""
+
+
+def decision_html(decision, options: dict[str, str], lines: list[str] | None = None) -> str:
+    """The decision as the head of a page: what to build, why, margins, validity, what was not checked, the
+    alternatives.
 
     Parameters
     ----------
     decision : Decision
         The decision (:mod:`presag_opt.design.decision`).
-    span_length : float
-        Span the absolute pre-sag is quoted on. [m]
+    options : dict of str to str
+        Evidence name to the option that supplies it (see
+        :meth:`~presag_opt.design.decision.Decision.not_checked`).
+    lines : list of str, optional
+        The decision's lines as rendered by the caller (a line's own headline); default
+        ``decision.lines(options)``.
     """
-    lines = decision.lines(span_length)
+    lines = lines or decision.lines(options)
     style = "summary" if decision.status == "decided" else "warn"
     items = "".join(f"<li>{_e(line.strip())}</li>" for line in lines[1:])
     return f"<div class='{style}' id='decision'><p><b>{_e(lines[0])}</b></p><ul>{items}</ul></div>"
+
+
+def _dynamic_section(study, l_ref: float) -> str:
+    """The dynamic robust design's comparison of the three methods by simulation."""
+    data = study.to_dict()
+    low, high = data["tolerance_mm"]
+    return ("<h2 id='dynamic'>Dynamic robust design</h2>"
+            f"<p>{_e(study.where())}; objective {_e(data['risk'])} of {_e(data['objective_name'])}; dynamic tolerance "
+            f"(within {study.tolerance.within * 100:g} % of its optimum) {low:.1f}–{high:.1f} mm on "
+            f"{data['reference_span_m']:g} m; {data['runs_used']} runs.</p>" + _table(
+                ["method", f"S on {data['reference_span_m']:g} m [mm]", "objective", "worst case", "max uplift [mm]",
+                 "inside the dynamic tolerance"],
+                [[m["method"], f"{m['presag_mm']:.1f}", f"{m['objective']:.4f}", f"{m['worst_case_objective']:.4f}",
+                  f"{m['uplift_max_mm']:.1f}", "yes" if m["within_tolerance"] else "no"] for m in data["methods"]],
+                {1, 2, 3, 4}))
 
 
 def _dependence_section() -> str:

@@ -12,8 +12,9 @@ import tempfile
 from pathlib import Path
 
 from presag_opt.design.band import KMH
-from presag_opt.design.line import LineDesign
+from presag_opt.design.line_results import LineDesign
 from presag_opt.errors import ModelError
+from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
 from presag_opt.report.html import CSS, _e, _table, decision_html
 
 DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
@@ -21,12 +22,20 @@ DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from
 """Columns of ``droppers.csv``."""
 
 SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_rel_permille",
-                "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm")
-"""Columns of ``spans.csv`` (steady-arm pull and static uplift at ``from_mast``)."""
+                "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm",
+                "robust_presag_mm", "presag_tolerance_low_mm", "presag_tolerance_high_mm", "margin_low_mm",
+                "margin_high_mm", "flag", "note")
+"""Columns of ``spans.csv``: steady-arm pull and static uplift at ``from_mast`` (empty where it is the
+section's termination, which has no steady arm); the span's own quasi-static robust pre-sag and
+tolerance interval on the built geometry, the built pre-sag's margin to each end (negative: outside)
+and its flag (:data:`presag_opt.pipeline.line.SPAN_FLAGS`); why a span is not sized (empty for an end span's
+tolerance columns)."""
 
-TOLERANCE_COLUMNS = ("presag_tolerance_low_mm", "presag_tolerance_high_mm")
-"""Columns ``spans.csv`` adds under rule ``robust``: each span's installation tolerance interval of its
-mid-span pre-sag (empty for a span that took its section's mean, e.g. an end span)."""
+LINE_OPTIONS = {"validity_sweep": "--study STORE", "dynamic_check": "--dynamic-check",
+                "dynamic_robust": "--dynamic-robust",
+                "installation_monte_carlo": "not offered by presag design: presag recommend --dropper-error MM on "
+                                            "the system model"}
+"""The options of ``presag design`` that supply each kind of evidence it can miss."""
 
 
 STITCH_COLUMNS = ("hangs_from",)
@@ -44,11 +53,6 @@ def _stitched(design: LineDesign) -> bool:
     return any(getattr(d, "stitch", False) for d in design.droppers)
 
 
-def span_columns(design: LineDesign) -> tuple[str, ...]:
-    """Columns of ``spans.csv`` for this design (:data:`SPAN_COLUMNS`, and the tolerance under rule ``robust``)."""
-    return SPAN_COLUMNS + (TOLERANCE_COLUMNS if design.options.rule == "robust" else ())
-
-
 def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
     """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
     stitched = _stitched(design)
@@ -59,52 +63,59 @@ def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
             for d in design.droppers]
 
 
-def span_rows(design: LineDesign) -> list[dict[str, object]]:
-    """The span table as rows."""
-    return [{"section": s.section, "span": s.span, "from_mast": s.from_mast, "to_mast": s.to_mast,
-             "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
-             "presag_rel_permille": round(s.presag / s.length * 1e3, 4), "e_mid_mm_per_N": round(s.e_mid * 1e3, 4),
-             "e_mast_mm_per_N": round(s.e_mast * 1e3, 4), "delta_e_mm_per_N": round(s.delta_e * 1e3, 4),
-             "steady_arm_pull_N": round(s.steady_arm_force, 1), "static_uplift_mm": round(s.static_uplift * 1e3, 1),
-             **_tolerance(design, s)}
-            for s in design.spans]
+def _mm(value: float | None, digits: int = 1) -> object:
+    return "" if value is None else round(value * 1e3, digits)
 
 
-def _tolerance_text(tolerance) -> str:
-    return "— (section mean)" if tolerance is None else f"{tolerance[0] * 1e3:.1f}–{tolerance[1] * 1e3:.1f}"
+def span_rows(answer: LineAnswer) -> list[dict[str, object]]:
+    """The span table as rows (mm, m, N, mm/N, ‰)."""
+    rows = []
+    for s in answer.design.spans:
+        margins = s.margins() or (None, None)
+        rows.append({
+            "section": s.section, "span": s.span, "from_mast": s.from_mast, "to_mast": s.to_mast,
+            "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
+            "presag_rel_permille": round(s.presag / s.length * 1e3, 4), "e_mid_mm_per_N": round(s.e_mid * 1e3, 4),
+            "e_mast_mm_per_N": round(s.e_mast * 1e3, 4), "delta_e_mm_per_N": round(s.delta_e * 1e3, 4),
+            "steady_arm_pull_N": "" if s.steady_arm_force is None else round(s.steady_arm_force, 1),
+            "static_uplift_mm": _mm(s.static_uplift), "robust_presag_mm": _mm(s.robust_presag),
+            "presag_tolerance_low_mm": _mm(None if s.tolerance is None else s.tolerance[0]),
+            "presag_tolerance_high_mm": _mm(None if s.tolerance is None else s.tolerance[1]),
+            "margin_low_mm": _mm(margins[0]), "margin_high_mm": _mm(margins[1]), "flag": answer.flag(s),
+            "note": s.note,
+        })
+    return rows
 
 
-def _tolerance(design: LineDesign, span) -> dict[str, object]:
-    if design.options.rule != "robust":
-        return {}
+def _tolerance_text(span) -> str:
     if span.tolerance is None:
-        return dict.fromkeys(TOLERANCE_COLUMNS, "")
-    return dict(zip(TOLERANCE_COLUMNS, (round(t * 1e3, 1) for t in span.tolerance)))
+        return "— (end span)"
+    low, high = span.margins()
+    return (f"{span.tolerance[0] * 1e3:.1f}–{span.tolerance[1] * 1e3:.1f} "
+            f"({low * 1e3:+.1f} / {high * 1e3:+.1f})")
 
 
-def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = False,
-                       dynamic_check: str | None = None) -> dict[str, Path]:
+def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = False) -> dict[str, Path]:
     """Write ``droppers.csv``, ``spans.csv``, ``index.html`` (and ``line_design.xlsx``) into ``folder``.
 
     Parameters
     ----------
-    design : LineDesign
-        The designed line.
+    answer : LineAnswer
+        The designed line and its decision.
     folder : str or Path
         Output folder (created if missing).
     xlsx : bool
         Also write the tables as one workbook (needs openpyxl).
-    dynamic_check : str, optional
-        HTML of a dynamic check to include.
 
     Returns
     -------
     dict
         Output name -> path.
     """
+    design = answer.design
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    tables = {"droppers": (dropper_columns(design), dropper_rows(design)), "spans": (span_columns(design), span_rows(design))}
+    tables = {"droppers": (dropper_columns(design), dropper_rows(design)), "spans": (SPAN_COLUMNS, span_rows(answer))}
     out = {}
     for name, (columns, rows) in tables.items():
         path = folder / f"{name}.csv"
@@ -114,13 +125,13 @@ def write_line_outputs(design: LineDesign, folder: str | Path, *, xlsx: bool = F
             writer.writerows(rows)
         out[name] = path
     if xlsx:
-        out["xlsx"] = _write_workbook(design, tables, folder / "line_design.xlsx")
+        out["xlsx"] = _write_workbook(answer, tables, folder / "line_design.xlsx")
     out["html"] = folder / "index.html"
-    out["html"].write_text(line_page(design, dynamic_check), encoding="utf-8")
+    out["html"].write_text(line_page(answer), encoding="utf-8")
     return out
 
 
-def _write_workbook(design: LineDesign, tables: dict, path: Path) -> Path:
+def _write_workbook(answer: LineAnswer, tables: dict, path: Path) -> Path:
     try:
         import openpyxl
     except ImportError as exc:
@@ -128,7 +139,7 @@ def _write_workbook(design: LineDesign, tables: dict, path: Path) -> Path:
     book = openpyxl.Workbook()
     book.remove(book.active)
     sheet = book.create_sheet("decision")
-    for line in design.decision.lines(design.nominal_span_length):
+    for line in answer.lines(LINE_OPTIONS):
         sheet.append([line.strip()])
     for name, (columns, rows) in tables.items():
         sheet = book.create_sheet(name)
@@ -137,21 +148,21 @@ def _write_workbook(design: LineDesign, tables: dict, path: Path) -> Path:
             sheet.append([row[c] for c in columns])
     sheet = book.create_sheet("rules")
     sheet.append(["section", "rule", "applies", "status", "worst"])
-    for r in design.rules:
+    for r in answer.design.rules:
         sheet.append([r.section, r.rule, r.applies, r.status, r.worst])
     book.save(path)
     return path
 
 
-def line_page(design: LineDesign, dynamic_check: str | None = None) -> str:
+def line_page(answer: LineAnswer) -> str:
     """The line report as one self-contained HTML page (figures embedded)."""
+    design = answer.design
     band = design.band
     low, high = band.mean_force_band()
-    l_nom = design.nominal_span_length
     parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Line design</title>"
              f"<style>{CSS}</style></head><body>",
              f"<h1>Line design: {_e(design.survey.source)} on {_e(design.base_name)}</h1>",
-             decision_html(design.decision, l_nom)]
+             decision_html(answer.decision, LINE_OPTIONS, answer.lines(LINE_OPTIONS))]
     failing = [r for r in design.rules if not r.passed]
     if failing:
         parts.append("<div class='warn' id='rules-failing'><p><b>Design rules not met</b></p><ul>"
@@ -165,28 +176,38 @@ def line_page(design: LineDesign, dynamic_check: str | None = None) -> str:
           f"{band.speed_high / KMH:g} km/h", f"{low:.0f}–{high:.0f} N", design.options.rule,
           f"{design.presag_rel * 1e3:.3f} ‰"]]))
     parts.append("<h2 id='along'>Elasticity and pre-sag along the line</h2>" + _along_figure(design))
-    if dynamic_check:
-        parts.append("<h2 id='dynamic'>Dynamic check</h2>" + dynamic_check)
+    if answer.check is not None:
+        parts.append("<h2 id='dynamic'>Dynamic check</h2>" + _check_html(answer.check, answer.decision.evidence.uplift_limit))
     parts.append("<h2 id='rules'>Design rules</h2><p>Public examples from Bane NOR's technical regulations for "
                  "contact line systems; each is stated for a speed range.</p>" + _table(
         ["section", "rule", "applies at this band", "status", "worst"],
         [[r.section, r.rule, "yes" if r.applies else "no", r.status, r.worst] for r in design.rules]))
-    robust = design.options.rule == "robust"
     for sec in design.sections:
         rec = sec.sizing.recommendation
         parts.append(f"<h2 id='section-{_e(sec.section)}'>Section {_e(sec.section)}</h2><p>S_rel range over the band "
                      f"(Δe rule, inner spans): {rec.presag_rel_range[0] * 1e3:.3f}–{rec.presag_rel_range[1] * 1e3:.3f} ‰; "
                      f"β_max {rec.speed.beta_max:.2f}.</p>" + _table(
             ["span", "masts", "l [m]", "S [mm]", "e_mid [mm/N]", "e_mast [mm/N]", "Δe [mm/N]", "steady arm [N]",
-             "static uplift [mm]", "sized"] + (["S tolerance [mm]"] if robust else []),
+             "static uplift [mm]", "own tolerance [mm] (margins)", "flag"],
             [[s.span, f"{s.from_mast}–{s.to_mast}", f"{s.length:.1f}", f"{s.presag * 1e3:.1f}", f"{s.e_mid * 1e3:.3f}",
-              f"{s.e_mast * 1e3:.3f}", f"{s.delta_e * 1e3:.3f}", f"{s.steady_arm_force:.0f}",
-              f"{s.static_uplift * 1e3:.1f}", "yes" if s.sized else "no (end span)"]
-             + ([_tolerance_text(s.tolerance)] if robust else []) for s in sec.spans],
-            {0, 2, 3, 4, 5, 6, 7, 8}))
+              f"{s.e_mast * 1e3:.3f}", f"{s.delta_e * 1e3:.3f}",
+              "— (termination)" if s.steady_arm_force is None else f"{s.steady_arm_force:.0f}",
+              "— (termination)" if s.static_uplift is None else f"{s.static_uplift * 1e3:.1f}",
+              _tolerance_text(s), answer.flag(s) or s.note] for s in sec.spans],
+            {0, 2, 3, 4, 5, 6}))
     parts.append("<p><small>Generated by presag_opt. Method: Schick, Liu &amp; Stichel, Railway Sciences (2025), "
                  "doi:10.1108/RS-05-2025-0016.</small></p></body></html>")
     return "\n".join(parts)
+
+
+def _check_html(check: LineDynamicCheck, limit: float) -> str:
+    """The dynamic check's runs as an HTML table with a sentence (uplift limit in m)."""
+    rows = [[f"{r.speed / KMH:.0f}", f"{r.static_force:g}", f"{r.mean_force:.1f}", f"{r.sigma_over_mean:.3f}",
+             f"{r.uplift_max * 1e3:.1f}", f"{r.loss_of_contact * 100:.2f}"] for r in check.runs.runs]
+    return (f"<p>Section {_e(check.section)} as built (largest static uplift estimate), at the band's top speed and "
+            f"its lowest and highest static force; steady-arm uplift limit {limit * 1e3:g} mm.</p>"
+            + _table(["speed [km/h]", "F_stat [N]", "F_m [N]", "σ/F_m [-]", "uplift [mm]", "loss of contact [%]"],
+                     rows, {0, 1, 2, 3, 4, 5}))
 
 
 def plot_along_line(design: LineDesign, path: str | Path) -> Path:

@@ -14,14 +14,19 @@ design is the one to build. The speed ratio β and the paper's validity limit ar
 
 from __future__ import annotations
 
+import dataclasses
 import time as wallclock
 from dataclasses import dataclass
 
 import numpy as np
 
 from presag_opt.design.band import KMH, OperatingBand
-from presag_opt.design.speed_range import QUASI_STATIC_BETA_LIMIT, speed_context
+from presag_opt.design.decision import DELTA_E_RULE, DYNAMIC_ROBUST, QUASI_STATIC_ROBUST
+from presag_opt.design.evidence import DynamicRobust
+from presag_opt.design.speed_range import speed_context
+from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
 from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
 from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
@@ -36,11 +41,57 @@ from presag_opt.robust.dynamic_design import (
 )
 from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.robust.scenarios import Risk
-from presag_opt.robust.study import robust_study
+from presag_opt.robust.study import RobustStudy, robust_study
 from presag_opt.system.catenary import Catenary
 
-DELTA_E, QUASI_STATIC, DYNAMIC = "Δe rule at band centre", "quasi-static robust", "dynamic robust"
-"""The three methods compared."""
+DELTA_E, QUASI_STATIC, DYNAMIC = DELTA_E_RULE, QUASI_STATIC_ROBUST, DYNAMIC_ROBUST
+"""The three methods compared (by the names of the decision)."""
+
+LOWEST_SIMULATED_SPEED = 50.0 * KMH
+"""Lowest speed the dynamic robust design simulates (the paper's lowest grid speed). [m/s]"""
+
+TYPICAL_PRESAGS = 7
+"""Pre-sags a dynamic robust design typically simulates (search and tolerance ends; 5 for the case
+study, at most the search's 12 plus 2), for the announced cost. [-]"""
+
+
+def simulated_band(band: OperatingBand) -> OperatingBand:
+    """The band with its lowest speed raised to what is simulated (see the module docstring).
+
+    Parameters
+    ----------
+    band : OperatingBand
+        Static forces, speeds and α_ae. [N], [m/s]
+    """
+    floor = LOWEST_SIMULATED_SPEED if band.speed_high > LOWEST_SIMULATED_SPEED else 0.5 * band.speed_high
+    return dataclasses.replace(band, speed_low=max(band.speed_low, floor))
+
+
+def dynamic_cost(catenary: Catenary, pantograph: Pantograph, band: OperatingBand, *, static_points: int = 4,
+                 speed_points: int = 3, workers: int = 1) -> WorkEstimate:
+    """Rough cost of a dynamic robust study (:data:`TYPICAL_PRESAGS` pre-sags of the grid).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The system simulated.
+    pantograph : Pantograph
+        The pantograph.
+    band : OperatingBand
+        The band as simulated (:func:`simulated_band`). [N], [m/s]
+    static_points, speed_points : int
+        Grid points along each axis. [-]
+    workers : int
+        Processes simulating pre-sags side by side. [-]
+    """
+    grid = OperatingGrid.from_band(band, static_points=static_points, speed_points=speed_points)
+    settings = SimulationSettings(numerics="auto")
+    plans = [plan_run(catenary, pantograph, speed=v, static_force=f, aero_coefficient=band.aero_coefficient,
+                      settings=settings) for f in grid.static_forces for v in grid.speeds]
+    one = estimate_runs(catenary, plans, batch=True)
+    share = TYPICAL_PRESAGS / max(1, min(workers, 2))
+    return WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
+                        runs=TYPICAL_PRESAGS * one.runs, run_seconds=share * one.run_seconds, memory=one.memory)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -103,10 +154,6 @@ class DynamicRobustStudy:
         The whole study: quasi-static designs, search, tolerance, comparison. [s]
     methods : tuple of MethodResult
         Δe rule, quasi-static robust, dynamic robust.
-    recommendation : str
-        The method to build from (:data:`QUASI_STATIC` or :data:`DYNAMIC`).
-    reason : str
-        Why, in one sentence.
     uplift_limit : float
         Steady-arm uplift limit. [m]
     """
@@ -122,13 +169,25 @@ class DynamicRobustStudy:
     runs_used: int
     wall_time: float
     methods: tuple[MethodResult, ...]
-    recommendation: str
-    reason: str
     uplift_limit: float
 
     def method(self, name: str) -> MethodResult:
         """The result of one method by name."""
         return next(m for m in self.methods if m.method == name)
+
+    def where(self) -> str:
+        """What was simulated, in words (system, pantograph, grid)."""
+        grid = self.design.grid
+        return (f"{self.catenary_name} with {self.pantograph_name}, {len(grid.static_forces)} static forces "
+                f"{grid.static_forces[0]:g}–{grid.static_forces[-1]:g} N × {len(grid.speeds)} speeds "
+                f"{grid.speeds[0] / KMH:.0f}–{grid.speeds[-1] / KMH:.0f} km/h")
+
+    def evidence(self) -> DynamicRobust:
+        """The dynamic design and its tolerance as evidence for a decision (:mod:`presag_opt.design.evidence`)."""
+        return DynamicRobust(presag_rel=self.design.presag_rel, tolerance=(self.tolerance.low, self.tolerance.high),
+                             within=self.tolerance.within, uplift=self.design.uplift_max,
+                             simulated=tuple((s.presag_rel, float(s.uplift_max.max())) for s in self.simulated),
+                             where=self.where())
 
     def to_dict(self) -> dict:
         """JSON-ready summary in mm, N, km/h and s."""
@@ -172,7 +231,6 @@ class DynamicRobustStudy:
                 "cost_s": m.cost,
                 "within_tolerance": m.within_tolerance,
             } for m in self.methods],
-            "recommendation": {"method": self.recommendation, "reason": self.reason},
             "simulated": [{
                 "presag_mm": s.presag_rel * span * 1e3,
                 "objective": risk.value(s.losses(d.loss), weights),
@@ -195,6 +253,7 @@ def dynamic_robust_study(
     settings: SimulationSettings | None = None,
     search: SearchSettings | None = None,
     workers: int = 1,
+    quasi: RobustStudy | None = None,
     progress=None,
 ) -> DynamicRobustStudy:
     """Design the pre-sag of a band of static forces × speeds quasi-statically and dynamically.
@@ -219,6 +278,9 @@ def dynamic_robust_study(
         Range and resolution of the search.
     workers : int
         Processes that simulate pre-sags side by side (the two starts, the two tolerance ends). [-]
+    quasi : RobustStudy, optional
+        The quasi-static study of the band's F_m band, where already computed (a decision computes
+        it once, over the band as given); default: computed here over the simulated grid's F_m band.
     progress : callable, optional
         Called with a short message before each expensive step.
 
@@ -237,8 +299,11 @@ def dynamic_robust_study(
     if not 0.0 < within <= 2.0:
         raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
     started = wallclock.perf_counter()
-    quasi = robust_study(catenary, grid.mean_force_band, within=within, progress=progress)
-    quasi_cost = wallclock.perf_counter() - started
+    if quasi is None:
+        quasi = robust_study(catenary, grid.mean_force_band, within=within, progress=progress)
+    else:
+        started -= quasi.wall_time  # the whole study's time includes the quasi-static one, computed before
+    quasi_cost = quasi.wall_time
     starts = (quasi.robust_parabola.presag_rel, quasi.nominal.presag_rel)
     design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
     tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
@@ -253,8 +318,6 @@ def dynamic_robust_study(
             worst_case=float(losses.max()), mean=float(weights @ losses), uplift_max=float(stats.uplift_max.max()),
             cost=cost, within_tolerance=bool(tolerance.low <= presag_rel <= tolerance.high and objective.feasible(stats)),
         ))
-    recommendation, reason = _recommend(methods, tolerance, context.beta_max, quasi_cost, design.uplift_limit,
-                                        design.reference_span)
     return DynamicRobustStudy(
         catenary_name=catenary.name,
         pantograph_name=pantograph.name,
@@ -267,34 +330,5 @@ def dynamic_robust_study(
         runs_used=evaluator.runs_used,
         wall_time=wallclock.perf_counter() - started,
         methods=tuple(methods),
-        recommendation=recommendation,
-        reason=reason,
         uplift_limit=objective.uplift_limit,
-    )
-
-
-def _recommend(methods: list[MethodResult], tolerance: DynamicTolerance, beta_max: float, quasi_cost: float,
-               uplift_limit: float, span: float) -> tuple[str, str]:
-    """The method to trust at this band, and why (one sentence)."""
-    quasi, dynamic = methods[1], methods[2]
-    regime = (f"β ≤ {beta_max:.2f}, inside the quasi-static validity limit {QUASI_STATIC_BETA_LIMIT:g}"
-              if beta_max <= QUASI_STATIC_BETA_LIMIT else
-              f"β up to {beta_max:.2f}, above the quasi-static validity limit {QUASI_STATIC_BETA_LIMIT:g}")
-    excess = quasi.worst_case / dynamic.worst_case - 1.0
-    if quasi.within_tolerance:
-        return QUASI_STATIC, (
-            f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm, {quasi_cost:.0f} s) lies inside "
-            f"the dynamic tolerance interval; its worst case is {100 * excess:+.1f} % from the dynamic design's "
-            f"({regime})"
-        )
-    if quasi.uplift_max > uplift_limit:
-        return DYNAMIC, (
-            f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm) lifts the steady arms by "
-            f"{quasi.uplift_max * 1e3:.1f} mm, above the {uplift_limit * 1e3:g} mm limit the dynamic design keeps "
-            f"({regime})"
-        )
-    return DYNAMIC, (
-        f"the quasi-static robust pre-sag ({quasi.presag_rel * span * 1e3:.1f} mm) lies outside the dynamic "
-        f"tolerance interval {tolerance.low * span * 1e3:.1f}–{tolerance.high * span * 1e3:.1f} mm; its worst case "
-        f"is {100 * excess:+.1f} % from the dynamic design's ({regime})"
     )

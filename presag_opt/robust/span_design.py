@@ -12,7 +12,9 @@ heights at its masts, so a height change between masts is not mistaken for wavin
 the spans on the sizing pass's geometry, form-finds again at those pre-sags, recomputes the
 elasticity there and sizes again (the elasticity is best taken near the optimal pre-sag, as
 :func:`~presag_opt.robust.study.robust_study` does), and gives the section's end spans, whose outer
-support is the termination, the mean S_rel of its sized spans.
+support is the termination, the mean S_rel of its sized spans. Whatever the rule, its
+:meth:`~RobustSpanRule.intervals` checks every sized span of the section as built: its own
+tolerance interval on the built geometry, against which the built pre-sag's margin is judged.
 
 References
 ----------
@@ -28,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import OperatingBand
-from presag_opt.design.line import SpanPresags
+from presag_opt.design.line_results import SpanPresags
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.robust.lp import robust_presag
@@ -140,6 +142,25 @@ class RobustSpanRule:
                                         step=elasticity.step, elasticity_method=elasticity.elasticity_method)
             designs = span_robust_designs(build_path_model(again, curves), scenarios, self.within)
         return _span_presags(catenary, designs)
+
+    def intervals(self, state: EquilibriumState, elasticity: SectionElasticity, sized: Sequence[int],
+                  band: OperatingBand) -> tuple[SpanRobust, ...]:
+        """Every sized span's minimax parabola and tolerance interval on a state as it is (no
+        re-linearisation): the check of a built section's pre-sags.
+
+        Parameters
+        ----------
+        state : EquilibriumState
+            The section form-found at its built pre-sag.
+        elasticity : SectionElasticity
+            Elasticity curves of (at least) the sized spans on ``state``.
+        sized : sequence of int
+            Spans to check, from 0. [-]
+        band : OperatingBand
+            Static forces, speeds and α_ae (the F_m band is designed for).
+        """
+        scenarios = ForceScenarios.band(*band.mean_force_band())
+        return span_robust_designs(build_path_model(state, _only(elasticity, sized)), scenarios, self.within)
 
 
 def _only(elasticity: SectionElasticity, spans: Sequence[int]) -> SectionElasticity:

@@ -8,11 +8,14 @@ modules of :mod:`presag_opt.robust`; the dynamic check of designs is
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from presag_opt.design.band import force_levels_for_band
+from presag_opt.design.evidence import QuasiStaticRobust
+from presag_opt.design.recommendation import presag_rel_range
 from presag_opt.design.section import section_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
@@ -41,7 +44,9 @@ class RobustStudy:
     robust_parabola : RobustDesign
         The minimax parabola (the one the tolerance band refers to).
     nominal : RobustDesign
-        The quasi-static Δe rule at the band centre, S = F_c·Δe(F_c), evaluated over the band.
+        The quasi-static Δe rule over the band (the mean of the S_rel range ends, on the model's own
+        geometry, as :func:`~presag_opt.design.recommendation.layout_recommendation` finds it; or the
+        S_rel given to :func:`robust_study`), evaluated over the band.
     tolerance : ToleranceBand
         S_rel interval of the robust parabola within ``within`` of its worst-case optimum.
     centre_tolerance : ToleranceBand
@@ -49,6 +54,8 @@ class RobustStudy:
         minimum of R at F_c; not the nominal Δe design, which is quasi-static, not an optimum of R).
     reference_span : float
         Span length the absolute pre-sag is quoted for. [m]
+    wall_time : float
+        Wall time of the study. [s]
     """
 
     catenary_name: str
@@ -60,6 +67,7 @@ class RobustStudy:
     tolerance: ToleranceBand
     centre_tolerance: ToleranceBand
     reference_span: float
+    wall_time: float = 0.0
 
     def to_dict(self) -> dict:
         """JSON-ready summary in mm, ‰ and N."""
@@ -91,6 +99,11 @@ class RobustStudy:
             "solver_status": self.robust.solver_status,
         }
 
+    def evidence(self) -> QuasiStaticRobust:
+        """The robust parabola and its tolerance as evidence for a decision (:mod:`presag_opt.design.evidence`)."""
+        return QuasiStaticRobust(presag_rel=self.robust_parabola.presag_rel,
+                                 tolerance=(self.tolerance.low, self.tolerance.high), within=self.tolerance.within)
+
 
 def robust_study(
     catenary,
@@ -103,6 +116,7 @@ def robust_study(
     scenarios: ForceScenarios | None = None,
     relinearise: bool = True,
     settings: StaticSettings | None = None,
+    nominal_presag_rel: float | None = None,
     progress=None,
 ) -> RobustStudy:
     """Design the pre-sag of a section for a band of mean contact forces.
@@ -112,7 +126,7 @@ def robust_study(
     paper finds the elasticity is best taken near the optimal pre-sag (its Fig. 5b: 16 % error at
     179 N from the 30 mm geometry, 2 % from 70 mm), form-find again at that pre-sag, recompute the
     curves and solve again (``relinearise``); finally the requested shape and risk, the nominal Δe
-    rule at the band centre and both tolerance bands on the final geometry.
+    rule over the band and both tolerance bands on the final geometry.
 
     Parameters
     ----------
@@ -134,9 +148,14 @@ def robust_study(
         Recompute geometry and elasticity at the first robust pre-sag.
     settings : StaticSettings, optional
         Numerical settings of the static model (default: 0.5 m elements).
+    nominal_presag_rel : float, optional
+        S_rel of the Δe rule to evaluate as the nominal design (a decision passes the one its
+        recommendation found, so that one rule has one number); default: the rule over ``fm_band`` on
+        the model's own geometry. [-]
     progress : callable, optional
         Called with a short message before each expensive step.
     """
+    started = time.perf_counter()
     low, high = fm_band
     scenarios = scenarios or ForceScenarios.band(low, high)
     if not 0.0 < within <= 2.0:  # before the form-finding, not after it
@@ -153,6 +172,8 @@ def robust_study(
         return build_path_model(state, section_elasticity(state, force_levels=levels, elasticity_method="active-set"))
 
     path = path_at(catenary)
+    if nominal_presag_rel is None:
+        nominal_presag_rel = layout_recommendation_rel(path.section, fm_band)
     if relinearise:
         first = robust_presag(path, scenarios)
         path = path_at(_within_model_range(catenary, first, fm_band))
@@ -162,9 +183,8 @@ def robust_study(
         path, scenarios, shape=shape, risk=risk, buildability=buildability
     )
     centre = 0.5 * (low + high)
-    nominal_rel = path.section.presag(centre, "delta-e").presag_rel_mean
-    nominal = evaluate_design(path, path.parabola_depths(nominal_rel), scenarios, shape="parabola", risk=risk,
-                              presag_rel=nominal_rel, risk_label="nominal")
+    nominal = evaluate_design(path, path.parabola_depths(nominal_presag_rel), scenarios, shape="parabola", risk=risk,
+                              presag_rel=nominal_presag_rel, risk_label="nominal")
     single = ForceScenarios(forces=np.array([centre]), weights=np.array([1.0]))
     lengths = catenary.layout.span_lengths
     reference = lengths[path.spans[0]] if len(set(lengths)) == 1 else max(lengths)
@@ -178,7 +198,14 @@ def robust_study(
         tolerance=tolerance_band(path, scenarios, within),
         centre_tolerance=tolerance_band(path, single, within),
         reference_span=float(reference),
+        wall_time=time.perf_counter() - started,
     )
+
+
+def layout_recommendation_rel(section, fm_band: tuple[float, float]) -> float:
+    """The Δe rule's S_rel over an F_m band on a section: the mean of its range ends (one definition
+    with :func:`~presag_opt.design.recommendation.layout_recommendation`). [-]"""
+    return float(np.mean(presag_rel_range(section, *fm_band)))
 
 
 def _within_model_range(catenary, design: RobustDesign, fm_band: tuple[float, float]):

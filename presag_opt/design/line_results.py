@@ -1,0 +1,267 @@
+"""The results of a line design: each span and dropper as built, each section, the line.
+
+Filled by :func:`presag_opt.design.line.design_line`; written out by
+:mod:`presag_opt.report.line_report`. Edge units appear only there; here everything is SI.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from presag_opt.design.band import OperatingBand
+from presag_opt.design.evidence import DeltaERule, QuasiStaticRobust
+from presag_opt.design.line_rules import RuleCheck
+from presag_opt.design.recommendation import LayoutRecommendation
+from presag_opt.design.section import SectionElasticity
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.survey import Survey
+
+if TYPE_CHECKING:
+    from presag_opt.design.line import LineOptions
+
+@dataclass(frozen=True, kw_only=True)
+class SpanPresags:
+    """A section's pre-sag per span from a span rule (e.g. the per-span robust rule).
+
+    Attributes
+    ----------
+    presag : ndarray
+        Mid-span pre-sag of every span, below the line between its supports. [m]
+    tolerance : ndarray, shape (n_spans, 2)
+        Installation tolerance interval of each span's mid-span pre-sag (NaN where the span took
+        the section's mean, e.g. an end span). [m]
+    presag_rel : float
+        The section's representative S_rel: the mean of its sized spans'. [-]
+    presag_rel_tolerance : tuple of float
+        The mean of the sized spans' tolerance ends in S_rel. [-]
+    method : str
+        What produced it (shown with the decision).
+    """
+
+    presag: np.ndarray
+    tolerance: np.ndarray
+    presag_rel: float
+    presag_rel_tolerance: tuple[float, float]
+    method: str
+
+
+@dataclass(frozen=True, kw_only=True)
+class SectionSizing:
+    """Pass 1 of one section.
+
+    Attributes
+    ----------
+    recommendation : LayoutRecommendation
+        The quasi-static Δe rule over the band, from the sized (inner) spans.
+    elasticity : SectionElasticity
+        The elasticity curves of every span (the end spans too, for the span table).
+    span_presags : SpanPresags or None
+        The span rule's pre-sags (rule ``robust``), else None.
+    """
+
+    recommendation: LayoutRecommendation
+    elasticity: SectionElasticity
+    span_presags: SpanPresags | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpanDesign:
+    """One span as designed (a row of ``spans.csv``).
+
+    Attributes
+    ----------
+    section : str
+        Section id.
+    span : int
+        Span number within the section, from 1. [-]
+    from_mast, to_mast : str
+        Mast ids.
+    chainage : float
+        Chainage of ``from_mast``. [m]
+    length : float
+        Span length. [m]
+    presag : float
+        Pre-sag built at mid-span, below the line between the supports. [m]
+    e_mid, e_mast, delta_e : float
+        Elasticity at mid-span, at ``from_mast`` and Δe = e_max − e_min at the band-centre F_m, on
+        the line as built. [m/N]
+    steady_arm_force : float or None
+        Axial force of the steady arm at ``from_mast`` in the built state: + tension (pull-off),
+        − compression (push-off); None where ``from_mast`` is the section's termination. [N]
+    static_uplift : float or None
+        Static uplift estimate at ``from_mast``: F_m at the top of the band times e_mast there; None
+        where ``from_mast`` is the termination (it has no steady arm to lift). [m]
+    sized : bool
+        Whether the span took part in sizing the pre-sag (not the section's end spans).
+    tolerance : tuple of float or None
+        The span's own quasi-static tolerance interval of its mid-span pre-sag on the built
+        geometry (given a span rule; None for an end span). [m]
+    robust_presag : float or None
+        The span's own quasi-static robust pre-sag on the built geometry (with ``tolerance``). [m]
+    note : str
+        Why the span is not sized or checked (empty for a sized span).
+    """
+
+    section: str
+    span: int
+    from_mast: str
+    to_mast: str
+    chainage: float
+    length: float
+    presag: float
+    e_mid: float
+    e_mast: float
+    delta_e: float
+    steady_arm_force: float | None
+    static_uplift: float | None
+    sized: bool
+    tolerance: tuple[float, float] | None = None
+    robust_presag: float | None = None
+    note: str = ""
+
+    def margins(self) -> tuple[float, float] | None:
+        """Distance of the built pre-sag above the low and below the high end of its own tolerance
+        (negative: outside); None without one. [m]"""
+        if self.tolerance is None:
+            return None
+        return (self.presag - self.tolerance[0], self.tolerance[1] - self.presag)
+
+
+@dataclass(frozen=True, kw_only=True)
+class DropperDesign:
+    """One dropper as built (a row of ``droppers.csv``).
+
+    Attributes
+    ----------
+    section, from_mast, to_mast : str
+        Section and mast ids.
+    span, dropper : int
+        Span within the section and dropper within the span, both from 1. [-]
+    position : float
+        Distance from ``from_mast``. [m]
+    length : float
+        Unstretched length between the messenger and contact-wire clamp points (cut length). [m]
+    contact_wire_height : float
+        Contact-wire height above the rail at the dropper in the built equilibrium. [m]
+    presag : float
+        Depth of the contact wire below the straight line between its supports there. [m]
+    stitch : bool
+        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its cut length is
+        between the stitch-wire and contact-wire clamp points).
+    """
+
+    section: str
+    span: int
+    from_mast: str
+    to_mast: str
+    dropper: int
+    position: float
+    length: float
+    contact_wire_height: float
+    presag: float
+    stitch: bool = False
+
+
+@dataclass(frozen=True, kw_only=True)
+class SectionDesign:
+    """One tension section designed.
+
+    Attributes
+    ----------
+    section : str
+        Section id.
+    catenary : Catenary
+        The section's model at the built pre-sag.
+    sizing : SectionSizing
+        Pass 1: the elasticity and the quasi-static Δe rule over the band.
+    spans : tuple of SpanDesign
+    droppers : tuple of DropperDesign
+    rules : tuple of RuleCheck
+        Design-rule checks of the section.
+    """
+
+    section: str
+    catenary: Catenary
+    sizing: SectionSizing
+    spans: tuple[SpanDesign, ...]
+    droppers: tuple[DropperDesign, ...]
+    rules: tuple[RuleCheck, ...]
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineDesign:
+    """A surveyed line designed.
+
+    Attributes
+    ----------
+    survey : Survey
+        The input.
+    base_name : str
+        The system model used.
+    band : OperatingBand
+        Forces and speeds.
+    options : LineOptions
+    presag_rel : float
+        The line's S_rel by the Δe rule (mean of the sections' range ends). [-]
+    sections : tuple of SectionDesign
+    notes : tuple of str
+        What is not modelled or checked.
+    """
+
+    survey: Survey
+    base_name: str
+    band: OperatingBand
+    options: LineOptions
+    presag_rel: float
+    sections: tuple[SectionDesign, ...]
+    notes: tuple[str, ...]
+
+    @property
+    def spans(self) -> tuple[SpanDesign, ...]:
+        """Every span of every section, in track order."""
+        return tuple(s for sec in self.sections for s in sec.spans)
+
+    @property
+    def droppers(self) -> tuple[DropperDesign, ...]:
+        """Every dropper, in track order."""
+        return tuple(d for sec in self.sections for d in sec.droppers)
+
+    @property
+    def rules(self) -> tuple[RuleCheck, ...]:
+        """Every design-rule check."""
+        return tuple(r for sec in self.sections for r in sec.rules)
+
+    @property
+    def sized_span_lengths(self) -> tuple[float, ...]:
+        """Lengths of the spans that size the pre-sag. [m]"""
+        return tuple(s.length for s in self.spans if s.sized)
+
+    def delta_e(self) -> DeltaERule:
+        """The line's Δe rule as evidence (:mod:`presag_opt.design.evidence`): its S_rel, the envelope of
+        the sections' ranges and their largest static uplift estimate."""
+        layouts = [sec.sizing.recommendation for sec in self.sections]
+        worst = max(layouts, key=lambda lay: lay.steady_arm_uplift.uplift).steady_arm_uplift
+        return DeltaERule(presag_rel=self.presag_rel,
+                          presag_rel_range=(min(lay.presag_rel_range[0] for lay in layouts),
+                                            max(lay.presag_rel_range[1] for lay in layouts)),
+                          static_uplift=worst.uplift, support_elasticity=worst.support_elasticity)
+
+    def quasi_static_robust(self, within: float) -> QuasiStaticRobust | None:
+        """The sized spans' own quasi-static robust designs as one record: the mean of their S_rel and of
+        their tolerance ends (None without span checks).
+
+        Parameters
+        ----------
+        within : float
+            The allowed loss their intervals were computed with. [-]
+        """
+        checked = [s for s in self.spans if s.tolerance is not None]
+        if not checked:
+            return None
+        return QuasiStaticRobust(
+            presag_rel=float(np.mean([s.robust_presag / s.length for s in checked])),
+            tolerance=(float(np.mean([s.tolerance[0] / s.length for s in checked])),
+                       float(np.mean([s.tolerance[1] / s.length for s in checked]))), within=within)

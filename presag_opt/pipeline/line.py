@@ -1,0 +1,260 @@
+"""The decision for a surveyed line: its design, every span's own tolerance, and one decision.
+
+:func:`answer_line` is what ``presag design`` runs: the line design
+(:func:`~presag_opt.design.line.design_line`) with the per-span quasi-static robust rule always given, so
+that every sized span's built pre-sag is checked against its own tolerance interval on the built
+geometry whatever the pre-sag rule; on request the dynamic check of the built line at the band's worst
+points (:func:`line_dynamic_check`), a stored validity study and the dynamic robust design of the worst
+section. Each returns its record; :func:`~presag_opt.design.decision.decide` runs once.
+
+A span is flagged (:func:`span_flag`) where its built pre-sag lies outside its own tolerance, or
+closer to an end of it than the crew's build tolerance.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from presag_opt.design.band import OperatingBand
+from presag_opt.design.decision import Decision, decide
+from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, crew_tolerance
+from presag_opt.design.line import LineOptions, design_line
+from presag_opt.design.line_results import LineDesign, SectionDesign, SpanDesign
+from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
+from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
+from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
+from presag_opt.pipeline.validity import ValidityRange, stored_sweep
+from presag_opt.robust.dynamic_check import DynamicCheck, dynamic_check
+from presag_opt.robust.dynamic_design import DynamicObjective
+from presag_opt.robust.dynamic_study import DynamicRobustStudy, dynamic_robust_study, simulated_band
+from presag_opt.robust.scenarios import Risk
+from presag_opt.robust.span_design import RobustSpanRule
+from presag_opt.robust.study import robust_study
+from presag_opt.static.discretisation import StaticSettings
+from presag_opt.system.catenary import Catenary
+from presag_opt.system.survey import Survey
+
+SPAN_FLAGS = ("", "near an end of its tolerance", "outside its tolerance")
+"""A sized span's built pre-sag: inside its own tolerance with at least the crew's margin; inside, but
+closer to an end than the crew's tolerance; outside."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineDynamicCheck:
+    """The built line simulated at the band's worst points on its worst section.
+
+    Attributes
+    ----------
+    section : str
+        The section simulated: the one with the largest static steady-arm uplift estimate.
+    presag_rel : float
+        Its mean built S_rel. [-]
+    runs : DynamicCheck
+        The runs (top speed, lowest and highest static force).
+    """
+
+    section: str
+    presag_rel: float
+    runs: DynamicCheck
+
+    @property
+    def uplift(self) -> float:
+        """Largest steady-arm uplift of the runs. [m]"""
+        return max(r.uplift_max for r in self.runs.runs)
+
+    def evidence(self) -> DynamicUpliftCheck:
+        """The check as evidence for a decision."""
+        return DynamicUpliftCheck(presag_rel=self.presag_rel, uplift=self.uplift,
+                                  where=f"section {self.section} as built, at the band's top speed")
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineAnswer:
+    """A surveyed line designed, checked, and the one decision made from it.
+
+    Attributes
+    ----------
+    design : LineDesign
+        The line as built.
+    check : LineDynamicCheck or None
+        The dynamic check, if run.
+    dynamic : DynamicRobustStudy or None
+        The dynamic robust design of the worst section, if run.
+    validity : ValidityRange or None
+        The stored validity study, if read.
+    decision : Decision
+        What to build and why.
+    """
+
+    design: LineDesign
+    check: LineDynamicCheck | None
+    dynamic: DynamicRobustStudy | None
+    validity: ValidityRange | None
+    decision: Decision
+
+    def flag(self, span: SpanDesign) -> str:
+        """The span's flag with the decision's crew tolerance (:func:`span_flag`)."""
+        return span_flag(span, self.decision.evidence.installation.half_width)
+
+    def flagged(self) -> dict[str, list[SpanDesign]]:
+        """The flagged sized spans by flag."""
+        out: dict[str, list[SpanDesign]] = {flag: [] for flag in SPAN_FLAGS[1:]}
+        for span in self.design.spans:
+            flag = self.flag(span)
+            if flag:
+                out[flag].append(span)
+        return out
+
+    def headline(self) -> str:
+        """The decision's headline for the line (S_rel × span length) with the flagged spans counted."""
+        lengths = [s.length for s in self.design.spans]
+        checked = sum(1 for s in self.design.spans if s.tolerance is not None)
+        counts = "; ".join(f"{len(spans)} of {checked} sized spans {flag}"
+                           for flag, spans in self.flagged().items() if spans)
+        return self.decision.headline(lengths) + (f" — {counts} (spans.csv)" if counts else "")
+
+    def lines(self, options: dict[str, str]) -> list[str]:
+        """The decision as printed for the line (see :meth:`presag_opt.design.decision.Decision.lines`).
+
+        Parameters
+        ----------
+        options : dict of str to str
+            Evidence name to the option of the running command that supplies it.
+        """
+        return [self.headline(), *self.decision.lines(options, [s.length for s in self.design.spans])[1:]]
+
+
+def span_flag(span: SpanDesign, crew: float) -> str:
+    """How a span's built pre-sag sits in its own tolerance (one of :data:`SPAN_FLAGS`).
+
+    Parameters
+    ----------
+    span : SpanDesign
+        A span as built (without a tolerance of its own, e.g. an end span, it is not flagged).
+    crew : float
+        The crew's build tolerance. [m]
+    """
+    margins = span.margins()
+    if margins is None:
+        return SPAN_FLAGS[0]
+    smallest = min(margins)
+    return SPAN_FLAGS[2] if smallest < 0 else SPAN_FLAGS[1] if smallest < crew else SPAN_FLAGS[0]
+
+
+def worst_section(design: LineDesign) -> SectionDesign:
+    """The section with the largest static steady-arm uplift estimate among its sized spans."""
+    return max(design.sections, key=lambda sec: max((s.static_uplift for s in sec.spans
+                                                     if s.sized and s.static_uplift is not None), default=0.0))
+
+
+def section_presag_rel(section: SectionDesign) -> float:
+    """The section's mean built S_rel over its sized spans. [-]"""
+    sized = [s for s in section.spans if s.sized] or list(section.spans)
+    return sum(s.presag / s.length for s in sized) / len(sized)
+
+
+def line_dynamic_check(design: LineDesign, pantograph: Pantograph,
+                       progress: Callable[[str], None] | None = None) -> LineDynamicCheck:
+    """Simulate the band's worst points (top speed, lowest and highest static force) on the built
+    worst section.
+
+    Parameters
+    ----------
+    design : LineDesign
+        The designed line.
+    pantograph : Pantograph
+        The pantograph.
+    progress : callable, optional
+        Called with a short message before the runs.
+    """
+    worst = worst_section(design)
+    band = design.band
+    runs = dynamic_check(worst.catenary, {"built": worst.catenary}, pantograph=pantograph,
+                         static_forces=sorted({band.static_force_low, band.static_force_high}),
+                         speeds=[band.speed_high], aero_coefficient=band.aero_coefficient,
+                         reference_span=min(design.sized_span_lengths or (60.0,)), progress=progress)
+    return LineDynamicCheck(section=worst.section, presag_rel=section_presag_rel(worst), runs=runs)
+
+
+def answer_line(
+    survey: Survey,
+    base: Catenary,
+    band: OperatingBand,
+    *,
+    options: LineOptions | None = None,
+    within: float = 0.10,
+    uplift_limit: float = STEADY_ARM_UPLIFT_LIMIT,
+    crew: float | None = None,
+    study: str | Path | None = None,
+    check: bool = False,
+    dynamic: DynamicOptions | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> LineAnswer:
+    """Design a surveyed line, check it, and decide once (see the module docstring).
+
+    Parameters
+    ----------
+    survey : Survey
+        Masts, sections and their geometry.
+    base : Catenary
+        The system (wires, tensions, droppers, supports).
+    band : OperatingBand
+        Static forces, speeds and α_ae. [N], [m/s]
+    options : LineOptions, optional
+        Pre-sag rule and numerics.
+    within : float
+        Allowed loss of the tolerance intervals. [-]
+    uplift_limit : float
+        Largest allowed steady-arm uplift. [m]
+    crew : float, optional
+        The crew's build tolerance of the mid-span pre-sag (default: the assumed one). [m]
+    study : str or Path, optional
+        A stored validity study to read.
+    check : bool
+        Simulate the built worst section at the band's worst points.
+    dynamic : DynamicOptions, optional
+        Run the dynamic robust design of the worst section.
+    progress : callable, optional
+        Called with a short message as the work goes on.
+    """
+    options = options or LineOptions()
+    installation = crew_tolerance(crew)
+    span_rule = RobustSpanRule(within=within)
+    pantograph = None
+    if check or dynamic is not None:
+        source = CASE_STUDY_PANTOGRAPH if dynamic is None else dynamic.pantograph
+        pantograph = source if isinstance(source, Pantograph) else load_pantograph(source)
+    design = design_line(survey, base, band, options, progress=progress, span_rule=span_rule)
+    delta_e = design.delta_e()
+    validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
+    line_check = None if not check else line_dynamic_check(design, pantograph, progress)
+    study_dynamic = None
+    if dynamic is not None:
+        worst = worst_section(design)
+        section = worst.catenary.with_presag(design.presag_rel)
+        if progress:
+            progress(f"dynamic robust design of section {worst.section}")
+        quasi = robust_study(section, band.mean_force_band(), within=within,
+                             settings=StaticSettings(element_length=options.element_length),
+                             nominal_presag_rel=design.presag_rel, progress=progress)
+        objective = DynamicObjective(loss=dynamic.objective, risk=dynamic.risk or Risk(), uplift_limit=uplift_limit)
+        study_dynamic = dynamic_robust_study(section, pantograph, simulated_band(band), objective=objective,
+                                             within=within, static_points=dynamic.static_points,
+                                             speed_points=dynamic.speed_points, settings=dynamic.settings,
+                                             workers=dynamic.workers, quasi=quasi, progress=progress)
+    evidence = Evidence(
+        wave_speed=base.contact_wire.wave_speed, speed_high=band.speed_high, uplift_limit=uplift_limit,
+        reference_span=min(design.sized_span_lengths), static_force_floor=band.static_force_low,
+        static_force_estimate=highest_static_force_static(delta_e.support_elasticity, uplift_limit,
+                                                          band.aero_coefficient, band.speed_high),
+        delta_e=delta_e, quasi_static_robust=design.quasi_static_robust(within),
+        validity_sweep=None if validity is None else validity.record,
+        dynamic_check=None if line_check is None else line_check.evidence(),
+        dynamic_robust=None if study_dynamic is None else study_dynamic.evidence(),
+        installation=installation, scope="line",
+    )
+    return LineAnswer(design=design, check=line_check, dynamic=study_dynamic, validity=validity,
+                      decision=decide(evidence))
+
