@@ -30,6 +30,7 @@ LAYERS = {
     "robust": 6,
     "studies": 6,
     "validation": 7,
+    "pipeline": 7,
     "plotting": 8,
     "sensitivity": 8,
     "report": 9,

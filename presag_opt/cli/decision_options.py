@@ -7,8 +7,8 @@ One grammar for the band and the decision, whichever command asks:
 - the decision: ``--within PERCENT`` (10 or 10 %), ``--uplift-limit MM``, ``--crew-tolerance MM`` or
   ``--dropper-error MM`` (the crew tolerance from a Monte Carlo of per-dropper errors), ``--study
   STORE`` (a stored validity study), ``--dynamic-robust`` (:func:`add_decision_options`);
-- the numerics: ``--element-length M`` and ``--workers N`` from :func:`add_numerics_options`, one
-  default each.
+- the numerics: ``--element-length M`` and ``--workers N`` from :func:`add_numerics_options` and
+  :func:`add_workers_option`, one default each.
 
 The decision is printed by :func:`print_decision` (its lines, the same for every command) and
 :func:`decision_json` (its JSON); the option of the running command that would supply each missing
@@ -32,8 +32,9 @@ from presag_opt.errors import ModelError
 ELEMENT_LENGTH = 0.5
 """Default longest element of the static model, every command: the paper's 0.5 m. [m]"""
 
-WORKERS = min(2, os.cpu_count() or 1)
-"""Default worker processes, every command: two where the machine has them. [-]"""
+WORKERS = min(64, os.cpu_count() or 1)
+"""Default local worker processes, every command: the CPU count (each job starts no more processes than
+it has work for side by side). [-]"""
 
 CASE_STATIC_FORCE = (CASE_STUDY_BAND.static_force_low, CASE_STUDY_BAND.static_force_high)
 CASE_SPEED = (CASE_STUDY_BAND.speed_low / KMH, CASE_STUDY_BAND.speed_high / KMH)
@@ -134,13 +135,49 @@ def add_decision_options(parser: argparse.ArgumentParser, *, simulated: str, dyn
                             "decision is then final); about a minute for the case study on an idle 2-core machine")
 
 
-def add_numerics_options(parser: argparse.ArgumentParser, *, workers: bool = True) -> None:
-    """``--element-length`` and (optionally) ``--workers``, with the one default each."""
+def add_numerics_options(parser: argparse.ArgumentParser) -> None:
+    """``--element-length`` and ``--workers``, with the one default each."""
+    add_element_length_option(parser)
+    add_workers_option(parser)
+
+
+def add_element_length_option(parser: argparse.ArgumentParser) -> None:
+    """``--element-length M``, the one option for the static model's longest element."""
     parser.add_argument("--element-length", metavar="M", type=positive_float, default=ELEMENT_LENGTH,
-                        help=f"longest element of the static model in m (default {ELEMENT_LENGTH:g})")
-    if workers:
-        parser.add_argument("--workers", metavar="N", type=int, default=WORKERS,
-                            help=f"worker processes (default {WORKERS})")
+                        help=f"longest element of the static model in m (default {ELEMENT_LENGTH:g}; valid 0.01–5, "
+                             "small values take long)")
+
+
+def add_workers_option(parser: argparse.ArgumentParser, *, scheduler: bool = False) -> None:
+    """``--workers N``, the one option for local worker processes (read back with :func:`workers_of`).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The sub-command's parser.
+    scheduler : bool
+        The command also takes ``--scheduler`` (a Dask cluster instead of local workers).
+    """
+    parser.add_argument("--workers", metavar="N", type=int, default=None,
+                        help=f"local worker processes (default: the CPU count, {WORKERS} here"
+                        + ("; not with --scheduler)" if scheduler else ")"))
+
+
+def workers_of(args: argparse.Namespace) -> int:
+    """The local worker processes of a command: ``--workers`` or the default :data:`WORKERS`.
+
+    Raises
+    ------
+    ModelError
+        ``--workers`` with ``--scheduler``, or a count outside [1, 64].
+    """
+    given = getattr(args, "workers", None)
+    if given is not None and getattr(args, "scheduler", None) is not None:
+        raise ModelError("give either --workers or --scheduler, not both")
+    workers = WORKERS if given is None else given
+    if not 1 <= workers <= 64:
+        raise ModelError(f"--workers = {workers} is outside the valid range [1, 64]")
+    return workers
 
 
 def decision_settings(args: argparse.Namespace) -> dict:
@@ -181,7 +218,7 @@ def announce_dynamic(args: argparse.Namespace, catenary, band, pantograph, where
     if getattr(args, "quiet", False):
         return
     simulated = simulated_band(band)
-    cost = dynamic_cost(catenary, pantograph, simulated, workers=getattr(args, "workers", WORKERS))
+    cost = dynamic_cost(catenary, pantograph, simulated, workers=workers_of(args))
     print(f"presag: the dynamic robust design of {where} at {simulated.speed_low / KMH:.0f}–"
           f"{simulated.speed_high / KMH:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
           "(about a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)

@@ -9,10 +9,11 @@ from typing import TYPE_CHECKING
 from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,
     add_json_flag,
+    add_plot_option,
     announce_form_finding,
     announce_work,
     float_list,
-    output_path,
+    plot_folder,
     positive_float,
     print_json,
     print_warnings,
@@ -88,11 +89,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="longest element in m; with this or --time-step the numerics are fixed (default: the case's "
         "numerics, automatic from the speed for the built-in cases, else 0.5 m)",
     )
-    p.add_argument(
-        "--plot", metavar="FILE", default=None,
-        help="save a figure (PNG, PDF or SVG): contact force against position for one run, "
-        "σ/F_m against speed for several",
-    )
+    add_plot_option(p, "contact force against position (one run) or σ/F_m against speed (several)")
     p.add_argument(
         "--allow-supercritical", action="store_true",
         help="accept speeds at or above 0.7 of the contact-wire wave speed (the EN 50119 limit; refused otherwise)",
@@ -112,8 +109,8 @@ def simulate_command(args: argparse.Namespace) -> int:
     from presag_opt.static.run_time import form_find_estimate
 
     case = _case(args)
-    if args.plot:
-        args.plot = str(output_path(args.plot))
+    plots = plot_folder(args)
+    args.plot = plots
     speeds = case.speeds if args.speed is None else tuple(v * KMH for v in args.speed)
     forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
     settings = _settings(args, case.settings)
@@ -178,7 +175,7 @@ def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, st
     if args.plot:
         from presag_opt.plotting import plot_contact_force
 
-        plot_contact_force([result], args.plot)
+        args.plot = plot_contact_force([result], args.plot / "contact_force.png")
     runs = [result.to_dict()]
     verdicts = _reference_verdicts(args, runs)
     if args.json:
@@ -202,7 +199,7 @@ def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: 
     if args.plot:
         from presag_opt.plotting import plot_batch_statistics
 
-        plot_batch_statistics(batch, args.plot)
+        args.plot = plot_batch_statistics(batch, args.plot / "sigma_against_speed.png")
     output = {"case": case.name, **batch.to_dict()}
     verdicts = _reference_verdicts(args, output["runs"])
     if args.json:

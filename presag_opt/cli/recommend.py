@@ -27,6 +27,7 @@ from presag_opt.cli.decision_options import (
     decision_settings,
     operating_band,
     print_decision,
+    workers_of,
 )
 from presag_opt.design import (
     CASE_STUDY_MODELS,
@@ -154,7 +155,7 @@ def recommend_command(args: argparse.Namespace) -> int:
     numerics = StaticNumerics(element_length=args.element_length, step=args.step,
                               elasticity_method=args.elasticity_method,
                               force_levels=None if args.force_levels is None else tuple(args.force_levels))
-    dynamic = DynamicOptions(workers=args.workers) if args.dynamic_robust else None
+    dynamic = DynamicOptions(workers=workers_of(args)) if args.dynamic_robust else None
     if dynamic is not None:
         announce_dynamic(args, load_catenary(models[0]), band, load_pantograph(CASE_STUDY_PANTOGRAPH), models[0])
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:

@@ -1,70 +1,83 @@
 """``presag robust`` (quasi-static, or ``--dynamic``: by simulation over static forces × speeds) and
-``presag tolerance``."""
+``presag tolerance``.
+
+Both take the operating band as every command does (``--static-force``, ``--min-speed``,
+``--max-speed``, ``--aero``); ``presag robust`` prints the band's decision
+(:func:`presag_opt.pipeline.band.answer_band`), the same as ``presag recommend`` on the same model, above
+its own tables.
+"""
 
 from __future__ import annotations
 
 import argparse
-import os
 
 from presag_opt.cli import tolerance_mc
 from presag_opt.cli.common import (
     add_json_flag,
-    band,
+    add_plot_option,
     float_list,
     model_help,
-    output_path,
+    plot_folder,
     positive_float,
     print_json,
     print_warnings,
     progress,
     table,
 )
+from presag_opt.cli.decision_options import (
+    add_band_options,
+    add_decision_options,
+    add_numerics_options,
+    check_band_speed,
+    decision_json,
+    decision_settings,
+    operating_band,
+    parse_within,
+    print_decision,
+    workers_of,
+)
 from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.robust.dynamic_check import window_settings
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.stitch import stitch_summary
 
 DEFAULT_MODEL = "st_9.8_ideal"
-CASE_STUDY_FM_BAND = "70:148"
 DYNAMIC_DEFAULTS = {
-    "static_force": (70.0, 140.0),
-    "speed": (50.0, 90.0),
     "objective": "sigma-over-fm",
     "pantograph": "case_study_2mass_friction",
-    "aero": 0.00097,
-    "uplift_limit": 83.5,
     "grid_points": [4.0, 3.0],
-    "workers": min(2, os.cpu_count() or 1),
     "fleet_shares": None,
     "second_pantograph_at": None,
 }
-"""Options of ``--dynamic`` and their defaults: the case study (F_stat 70–140 N up to 90 km/h, simulated
-from 50 km/h, the paper's lowest grid speed; α_ae 0.00097 N/(km/h)²; uplift limit 83.5 mm)."""
+"""Options of ``--dynamic`` and their defaults (the band is the command's, as everywhere: the case study's
+F_stat 70–140 N up to 90 km/h is simulated from 50 km/h, the paper's lowest grid speed)."""
 
 CHECK_FORCES = (70.0, 105.0, 140.0)
 """Static contact forces of ``--check-speeds`` by default: the case study's band, its ends and centre. [N]"""
 
-SHARED_WITH_CHECK = ("pantograph", "aero")
-"""Options of ``--dynamic`` that ``--check-speeds`` uses too."""
+ROBUST_OPTIONS = {"validity_sweep": "--study STORE, a study written by presag sweep", "dynamic_robust": "--dynamic",
+                  "installation_monte_carlo": "--dropper-error MM"}
+"""The options of ``presag robust`` that supply each kind of evidence it can miss."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the robust-design sub-commands."""
     for name, helptext in (
-        ("robust", "pre-sag that minimises the waviness over a band of mean contact forces"),
+        ("robust", "pre-sag that minimises the waviness over the band, and the band's decision"),
         ("tolerance", "installation tolerance: the pre-sag interval within a loss of the robust optimum"),
     ):
         p = subparsers.add_parser(name, help=helptext, description=f"{helptext[0].upper()}{helptext[1:]}.")
         p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
-        p.add_argument("--fm-band", default=None, metavar="N:N",
-                       help=f"mean contact force band LOW:HIGH in N (default {CASE_STUDY_FM_BAND}, the case study)")
-        p.add_argument("--within", default="10", metavar="PERCENT",
-                       help="allowed loss of the tolerance band in %%, e.g. 10 or 10%% (default 10)")
-        p.add_argument("--plot", metavar="FILE", default=None,
-                       help="save R against S over the band; the suffix sets the format (.png, .pdf, .svg, ...)")
+        add_band_options(p)
+        add_numerics_options(p)
+        add_plot_option(p, "R against S over the band" + (" (with --dynamic: the objective against S)"
+                                                            if name == "robust" else " (with --monte-carlo: the "
+                                                            "histogram of the worst case)"))
         add_json_flag(p)
         if name == "robust":
+            add_decision_options(p, simulated="", dynamic_robust=False)
             p.add_argument("--shape", choices=("parabola", "per-dropper"), default="parabola",
                            help="parabola: one pre-sag per span (default); per-dropper: every dropper height free")
             p.add_argument("--risk", metavar="MEASURE", default="minimax",
@@ -74,10 +87,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
             _add_check_options(p)
             _add_dynamic_options(p)
-            p.add_argument("--allow-supercritical", action="store_true",
-                           help="accept simulated speeds at or above β = 0.7 of the contact-wire wave speed "
-                           "(EN 50119's limit) in --check-speeds and --dynamic")
         else:
+            p.add_argument("--within", default="10", metavar="PERCENT",
+                           help="allowed loss of the tolerance interval in %%, e.g. 10 or 10%% (default 10)")
             tolerance_mc.add_options(p)
         p.set_defaults(handler=robust_command if name == "robust" else tolerance_command)
 
@@ -85,8 +97,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _add_check_options(p: argparse.ArgumentParser) -> None:
     group = p.add_argument_group(
         "dynamic check of the quasi-static designs (--check-speeds)",
-        "simulate the designs of the quasi-static study (the Δe rule at the band centre and the robust design; with "
-        "--shape per-dropper the profile built into the catenary and the parabola of the same LP) at every static force x "
+        "simulate the designs of the quasi-static study (the Δe rule and the robust design; with --shape "
+        "per-dropper the profile built into the catenary and the parabola of the same LP) at every static force x "
         "speed given, with the pantograph of --pantograph and the α_ae of --aero; report per design and regime "
         "(below and above β 0.4) the worst and mean sigma/F_m, the largest steady-arm uplift and the loss of contact",
     )
@@ -101,39 +113,29 @@ def _add_dynamic_options(p: argparse.ArgumentParser) -> None:
     d = DYNAMIC_DEFAULTS
     group = p.add_argument_group(
         "dynamic design (--dynamic)",
-        "choose the parabolic pre-sag by batched simulation over a band of static forces x speeds: the S that "
+        "choose the parabolic pre-sag by batched simulation over the band's static forces x speeds: the S that "
         "minimises the risk measure of sigma/F_m (or sigma), keeping the steady-arm uplift limit and F_m - 3 sigma > 0; "
-        "compared with the Δe rule and the quasi-static robust design, with a recommendation",
+        "compared with the Δe rule and the quasi-static robust design; the band's decision is made with it",
     )
     group.add_argument("--dynamic", action="store_true", help="design by dynamic simulation")
-    group.add_argument("--static-force", metavar="N:N", type=band, default=None,
-                       help="static contact force band LOW:HIGH in N (default %g:%g)" % d["static_force"])
-    group.add_argument("--speed", metavar="KMH:KMH", type=band, default=None,
-                       help="speed band LOW:HIGH in km/h (default %g:%g)" % d["speed"])
     group.add_argument("--objective", choices=("sigma-over-fm", "sigma"), default=None,
                        help=f"loss at each operating point (default {d['objective']})")
     group.add_argument("--pantograph", metavar="FILE[,FILE...]", default=None,
                        help=f"pantograph model file or built-in name (default {d['pantograph']}); several, comma "
-                       "separated, design for the fleet")
+                       "separated, design for the fleet; also the pantograph of --check-speeds")
     group.add_argument("--fleet-shares", metavar="A,B", type=float_list, default=None,
                        help="share of the passages of each --pantograph type, normalised to sum 1 (default equal)")
     group.add_argument("--second-pantograph-at", metavar="M", type=positive_float, default=None,
                        help="every train runs a second raised pantograph of its type this many metres behind")
-    group.add_argument("--aero", metavar="N_per_kmh2", type=positive_float, default=None,
-                       help=f"aerodynamic uplift coefficient in N/(km/h)^2 (default {d['aero']:g})")
-    group.add_argument("--uplift-limit", metavar="MM", type=positive_float, default=None,
-                       help=f"steady-arm uplift limit in mm (default {d['uplift_limit']:g}, the case study)")
     group.add_argument("--grid-points", metavar="N,N", type=float_list, default=None,
                        help="simulated static forces and speeds across the band (default %g,%g)" % tuple(d["grid_points"]))
-    group.add_argument("--workers", metavar="N", type=int, default=None,
-                       help="processes that simulate pre-sags side by side when the search asks for two at once "
-                       f"(default {d['workers']})")
 
 
 def _dynamic_option(args: argparse.Namespace, name: str):
-    """An option of ``--dynamic``: its value, or its default; refused without ``--dynamic``."""
+    """An option of ``--dynamic``: its value, or its default; refused without ``--dynamic`` (the
+    pantograph also serves ``--check-speeds``)."""
     value = getattr(args, name)
-    checking = getattr(args, "check_speeds", None) is not None and name in SHARED_WITH_CHECK
+    checking = getattr(args, "check_speeds", None) is not None and name == "pantograph"
     if not args.dynamic and not checking:
         if value is not None:
             raise ModelError(f"--{name.replace('_', '-')} is an option of the dynamic design; add --dynamic")
@@ -141,31 +143,24 @@ def _dynamic_option(args: argparse.Namespace, name: str):
     return DYNAMIC_DEFAULTS[name] if value is None else value
 
 
-def parse_within(text: str) -> float:
-    """``10`` or ``10%`` (percent) -> 0.1; the range is the API's to check."""
-    try:
-        return float(text.removesuffix("%")) / 100.0
-    except ValueError:
-        raise ModelError(f"--within = {text!r}: write a percentage such as 10 (or 10%)") from None
-
-
 def _study(args: argparse.Namespace, catenary=None, **kwargs):
+    """The quasi-static robust study of the band's F_m band (``presag tolerance``)."""
     from presag_opt.robust import robust_study  # cvxpy is imported only when a robust command runs
+    from presag_opt.static.discretisation import StaticSettings
 
-    try:
-        fm_band = band(args.fm_band or CASE_STUDY_FM_BAND)
-    except argparse.ArgumentTypeError as exc:
-        raise ModelError(f"--fm-band {exc}") from None
+    band = operating_band(args)
     within = parse_within(args.within)
-    plot = output_path(args.plot) if args.plot else None
     catenary = catenary or load_catenary(args.model)
+    check_band_speed(args, [catenary])
     with progress(args) as report:
-        study = robust_study(catenary, fm_band, within=within, progress=report, **kwargs)
-    return study, plot
+        return robust_study(catenary, band.mean_force_band(), within=within, progress=report,
+                            settings=StaticSettings(element_length=args.element_length), **kwargs)
 
 
 def robust_command(args: argparse.Namespace) -> int:
-    """``presag robust``: the quasi-static robust design (or, with ``--dynamic``, the dynamic one)."""
+    """``presag robust``: the band's decision with the quasi-static robust design (or, with ``--dynamic``,
+    the dynamic one)."""
+    from presag_opt.pipeline.band import StaticNumerics, answer_band
     from presag_opt.robust import Buildability, Risk
 
     risk = Risk.parse(args.risk)
@@ -179,7 +174,9 @@ def robust_command(args: argparse.Namespace) -> int:
     build = Buildability(step=step * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
     pantograph = _check_pantograph(args)
     catenary = load_catenary(args.model)
-    window = check_settings(catenary) if args.check_speeds is not None else None
+    band = operating_band(args)
+    check_band_speed(args, [catenary])
+    window = window_settings(catenary) if args.check_speeds is not None else None
     if args.check_speeds is not None:
         wave_speed = catenary.contact_wire.wave_speed / KMH
         for speed in args.check_speeds:
@@ -188,8 +185,16 @@ def robust_command(args: argparse.Namespace) -> int:
                                  "(below the contact-wire wave speed)")
             if not args.allow_supercritical:
                 check_speed_limit(speed * KMH, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
-    study, plot = _study(args, catenary, shape=args.shape, risk=risk, buildability=build)
-    _plot(args, study, plot)
+    plots = plot_folder(args)
+    with progress(args) as report:
+        answer = answer_band([catenary], band, shape=args.shape, risk=risk, buildability=build,
+                             numerics=StaticNumerics(element_length=args.element_length), progress=report,
+                             **decision_settings(args))
+    study = answer.robust
+    if plots:
+        from presag_opt.plotting import plot_waviness
+
+        plot = plot_waviness(study, plots / "waviness.png")
     data = study.to_dict()
     data["system"] = stitch_summary(catenary)
     check = None
@@ -197,14 +202,15 @@ def robust_command(args: argparse.Namespace) -> int:
         check = _dynamic_check(args, study, catenary, pantograph, window, data["reference_span_m"])
         data["dynamic_check"] = check.summary()
     if args.json:
-        print_json(data)
+        print_json({"decision": decision_json(answer.decision, ROBUST_OPTIONS), **data})
         return 0
-    print(f"Robust pre-sag: {study.catenary_name}, F_m {data['fm_band_N'][0]:g}–{data['fm_band_N'][1]:g} N, "
+    print_decision(answer.decision.lines(ROBUST_OPTIONS))
+    print(f"Robust pre-sag: {study.catenary_name}, F_m {data['fm_band_N'][0]:.1f}–{data['fm_band_N'][1]:.1f} N, "
           f"{data['shape']}, {data['risk']}")
     print(f"system: {data['system']}")
     rows = [
         ("robust", data["presag_mm"], data["presag_rel_permille"], data["worst_case_waviness_mm"], data["mean_waviness_mm"]),
-        ("nominal Δe at band centre", data["nominal_presag_mm"], data["nominal_presag_mm"] / data["reference_span_m"],
+        ("Δe rule", data["nominal_presag_mm"], data["nominal_presag_mm"] / data["reference_span_m"],
          data["nominal_worst_case_waviness_mm"], data["nominal_mean_waviness_mm"]),
     ]
     print(table(["design", f"S on {data['reference_span_m']:g} m [mm]", "S_rel [‰]", "worst R [mm]", "mean R [mm]"],
@@ -213,7 +219,7 @@ def robust_command(args: argparse.Namespace) -> int:
         print(f"\nDropper depths [mm] (rounding: {data['rounding']}, continuous objective "
               f"{data['continuous_objective_mm']:.1f} mm): " + ", ".join(f"{d:.0f}" for d in data["dropper_depths_mm"]))
     low, high = data["tolerance_mm"]
-    print(f"\nInstallation tolerance (worst-case R within {data['tolerance_within'] * 100:g} %): {low:.1f}–{high:.1f} mm")
+    print(f"\nQuasi-static tolerance (worst-case R within {data['tolerance_within'] * 100:g} %): {low:.1f}–{high:.1f} mm")
     if check is not None:
         print(f"\nDynamic check ({pantograph.name}; F_stat {', '.join(f'{f:g}' for f in _check_forces(args))} N × "
               f"{', '.join(f'{v:g}' for v in args.check_speeds)} km/h; {window.analysed_spans} analysed span(s) after "
@@ -224,6 +230,8 @@ def robust_command(args: argparse.Namespace) -> int:
                       r["worst_sigma_over_Fm"], r["mean_sigma_over_Fm"], r["uplift_max_mm"],
                       r["loss_of_contact_max_pct"]) for r in data["dynamic_check"]],
                     ["{}", "{:.1f}", "{}", "{}", "{:.4f}", "{:.4f}", "{:.1f}", "{:.1f}"]))
+    if plots:
+        print(f"Plot saved to {plot}")
     return 0
 
 
@@ -247,7 +255,7 @@ def _dynamic_check(args: argparse.Namespace, study, catenary, pantograph, settin
     from presag_opt.robust import dynamic_check
     from presag_opt.robust.dynamic_check import design_catenary
 
-    designs = {"nominal Δe": study.nominal.presag_rel}
+    designs = {"Δe rule": study.nominal.presag_rel}
     if study.robust.shape == "per-dropper":
         designs["robust parabola (same LP)"] = study.robust_parabola.presag_rel
         designs["robust per-dropper"] = design_catenary(catenary, study.path, study.robust.depths)
@@ -256,35 +264,24 @@ def _dynamic_check(args: argparse.Namespace, study, catenary, pantograph, settin
     with progress(args) as report:
         return dynamic_check(catenary, designs, pantograph=pantograph, static_forces=_check_forces(args),
                              speeds=[v * KMH for v in args.check_speeds],
-                             aero_coefficient=_dynamic_option(args, "aero") / KMH**2,
+                             aero_coefficient=args.aero / KMH**2,
                              reference_span=reference_span, settings=settings, progress=report)
-
-
-def check_settings(catenary):
-    """Numerics of ``--check-speeds``: automatic, two lead-in and two analysed spans where the section
-    has them, fewer on a short one (lead-in spans on both sides of the analysed ones).
-
-    Parameters
-    ----------
-    catenary : Catenary
-        The section to be simulated.
-    """
-    from presag_opt.dynamics.settings import SimulationSettings
-
-    spans = catenary.layout.n_spans
-    lead_in = min(2, (spans - 1) // 2)
-    return SimulationSettings(numerics="auto", lead_in_spans=lead_in, analysed_spans=min(2, spans - 2 * lead_in))
 
 
 def tolerance_command(args: argparse.Namespace) -> int:
     """``presag tolerance``: the installation tolerance interval of the robust study."""
     tolerance_mc.check_options(args)
     if args.monte_carlo:
-        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a)[0], parse_within(args.within),
-                                                 DYNAMIC_DEFAULTS)
-    study, plot = _study(args)
-    _plot(args, study, plot)
+        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a), parse_within(args.within),
+                                                {**DYNAMIC_DEFAULTS, "band": operating_band(args)})
+    plots = plot_folder(args)
+    study = _study(args)
     data = study.to_dict()
+    written = None
+    if plots:
+        from presag_opt.plotting import plot_waviness
+
+        written = plot_waviness(study, plots / "waviness.png")
     if args.json:
         print_json({k: data[k] for k in ("catenary", "fm_band_N", "reference_span_m", "presag_mm", "worst_case_waviness_mm",
                                          "tolerance_mm", "tolerance_within", "centre_optimum_presag_mm",
@@ -292,103 +289,102 @@ def tolerance_command(args: argparse.Namespace) -> int:
                                          "nominal_worst_case_waviness_mm")})
         return 0
     (low, high), (clow, chigh) = data["tolerance_mm"], data["centre_optimum_tolerance_mm"]
-    print(f"Installation tolerance: {study.catenary_name}, F_m {data['fm_band_N'][0]:g}–{data['fm_band_N'][1]:g} N, "
+    print(f"Installation tolerance: {study.catenary_name}, F_m {data['fm_band_N'][0]:.1f}–{data['fm_band_N'][1]:.1f} N, "
           f"within {data['tolerance_within'] * 100:g} % of the optimum")
     print(table(["design", "S [mm]", "tolerance [mm]", "width [mm]"], [
         ("robust over the band", data["presag_mm"], f"{low:.1f}–{high:.1f}", high - low),
         ("optimum for the band centre only", data["centre_optimum_presag_mm"], f"{clow:.1f}–{chigh:.1f}",
          chigh - clow),
-        ("nominal: Δe rule at the band centre", data["nominal_presag_mm"], None, None),
+        ("Δe rule over the band", data["nominal_presag_mm"], None, None),
     ], ["{}", "{:.1f}", "{}", "{:.1f}"]))
-    return 0
-
-
-def _plot(args: argparse.Namespace, study, plot) -> None:
-    if plot:
-        from presag_opt.plotting import plot_waviness
-
-        written = plot_waviness(study, plot)
-        if not args.json:
-            print(f"Plot saved to {written}")
-
-
-def _dynamic_command(args: argparse.Namespace, risk) -> int:
-    """``presag robust --dynamic``: the dynamic robust study of a band, printed or as JSON."""
-    from presag_opt.design.band import KMH, OperatingBand
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.robust.dynamic_design import DynamicObjective
-    from presag_opt.robust.dynamic_study import dynamic_robust_study
-
-    for option, given in (("--fm-band", args.fm_band is not None), ("--step-mm", args.step_mm is not None),
-                          ("--asymmetric", args.asymmetric), ("--shape per-dropper", args.shape != "parabola"),
-                          ("--check-speeds", args.check_speeds is not None),
-                          ("--check-forces", args.check_forces is not None)):
-        if given:
-            raise ModelError(f"{option} is an option of the quasi-static design; --dynamic designs a parabola "
-                             "over a band of static forces and speeds (--static-force, --speed)")
-    points = _dynamic_option(args, "grid_points")
-    if len(points) != 2 or any(p != int(p) for p in points):
-        raise ModelError(f"--grid-points {','.join(f'{p:g}' for p in points)}: give two whole numbers, static forces "
-                         "and speeds, e.g. 4,3")
-    (f_low, f_high), (v_low, v_high) = _dynamic_option(args, "static_force"), _dynamic_option(args, "speed")
-    band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
-                         speed_high=v_high * KMH, aero_coefficient=_dynamic_option(args, "aero") / KMH**2)
-    objective = DynamicObjective(loss=_dynamic_option(args, "objective"), risk=risk,
-                                 uplift_limit=_dynamic_option(args, "uplift_limit") * 1e-3)
-    within = parse_within(args.within)
-    plot = output_path(args.plot) if args.plot else None
-    catenary = load_catenary(args.model)
-    if not args.allow_supercritical and band.speed_high < catenary.contact_wire.wave_speed:
-        # (a speed at or above the wave speed gets the study's own range error, whatever the option)
-        check_speed_limit(band.speed_high, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
-    names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
-    if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
-        if plot:
-            raise ModelError("--plot is not drawn for a fleet design; drop it")
-        return _fleet_command(args, catenary, names, band, objective, within, points)
-    pantograph = load_pantograph(names[0])
-    with progress(args) as report:
-        study = dynamic_robust_study(catenary, pantograph, band, objective=objective, within=within,
-                                     static_points=int(points[0]), speed_points=int(points[1]),
-                                     workers=_dynamic_option(args, "workers"), progress=report)
-    if plot:
-        from presag_opt.plotting import plot_dynamic_objective
-
-        written = plot_dynamic_objective(study, plot)
-    data = study.to_dict()
-    data["system"] = stitch_summary(catenary)
-    print_warnings(data["warnings"])
-    if args.json:
-        print_json(data)
-        return 0
-    loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
-    fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
-    print(f"Dynamic robust pre-sag: {study.catenary_name}, {study.pantograph_name}")
-    print(f"system: {data['system']}")
-    beta_low, beta_high = data["beta"]
-    print(f"band: F_stat {f_low:g}–{f_high:g} N × {v_low:g}–{v_high:g} km/h (β {beta_low:.2f}–{beta_high:.2f}), "
-          f"{int(points[0])} × {int(points[1])} simulated points; objective: {data['risk']} of {loss}; "
-          f"uplift limit {data['uplift_limit_mm']:g} mm")
-    rows = [(m["method"], m["presag_mm"], m["objective"], m["worst_case_objective"], m["mean_objective"],
-             m["uplift_max_mm"], m["cost_s"], "yes" if m["within_tolerance"] else "no") for m in data["methods"]]
-    print(table(["method", f"S on {data['reference_span_m']:g} m [mm]", "objective", f"worst {loss}", f"mean {loss}",
-                 "max uplift [mm]", "cost [s]", f"within {100 * within:g} %"],
-                rows, ["{}", "{:.1f}", fmt, fmt, fmt, "{:.1f}", "{:.0f}", "{}"]))
-    low, high = data["tolerance_mm"]
-    print(f"\nInstallation tolerance (worst case within {100 * within:g} % of its minimum): {low:.1f}–{high:.1f} mm")
-    print(f"Simulation: {data['runs_used']} runs at {data['presags_simulated']} pre-sags "
-          f"(search {data['search_runs']} runs, {data['search_time_s']:.0f} s; whole study {data['wall_time_s']:.0f} s)")
-    print(f"Recommendation: build the {data['recommendation']['method']} design — {data['recommendation']['reason']}")
-    if plot:
+    if written:
         print(f"Plot saved to {written}")
     return 0
 
 
-def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, objective, within: float,
-                   points) -> int:
-    """``presag robust --dynamic --pantograph A,B,...``: the fleet design beside each type's own optimum."""
+def _dynamic_command(args: argparse.Namespace, risk) -> int:
+    """``presag robust --dynamic``: the band's decision with the dynamic robust design, and the three
+    methods compared by simulation."""
+    from presag_opt.pipeline.band import DynamicOptions, StaticNumerics, answer_band
+
+    for option, given in (("--step-mm", args.step_mm is not None), ("--asymmetric", args.asymmetric),
+                          ("--shape per-dropper", args.shape != "parabola"),
+                          ("--check-speeds", args.check_speeds is not None),
+                          ("--check-forces", args.check_forces is not None)):
+        if given:
+            raise ModelError(f"{option} is an option of the quasi-static design; --dynamic designs a parabola "
+                             "over the band's static forces and speeds")
+    points = _dynamic_option(args, "grid_points")
+    if len(points) != 2 or any(p != int(p) for p in points):
+        raise ModelError(f"--grid-points {','.join(f'{p:g}' for p in points)}: give two whole numbers, static forces "
+                         "and speeds, e.g. 4,3")
+    band = operating_band(args)
+    plots = plot_folder(args)
+    catenary = load_catenary(args.model)
+    check_band_speed(args, [catenary])
+    settings = decision_settings(args)
+    names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
+    if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
+        if plots:
+            raise ModelError("--plot is not drawn for a fleet design; drop it")
+        return _fleet_command(args, catenary, names, band, risk, settings, points)
+    from presag_opt.cli.decision_options import announce_dynamic
     from presag_opt.dynamics.pantograph import load_pantograph
+
+    pantograph = load_pantograph(names[0])
+    announce_dynamic(args, catenary, band, pantograph, catenary.name)
+    dynamic = DynamicOptions(pantograph=pantograph, objective=_dynamic_option(args, "objective"), risk=risk,
+                             static_points=int(points[0]), speed_points=int(points[1]), workers=workers_of(args))
+    with progress(args) as report:
+        answer = answer_band([catenary], band, numerics=StaticNumerics(element_length=args.element_length),
+                             dynamic=dynamic, progress=report, **settings)
+    study = answer.dynamic
+    written = None
+    if plots:
+        from presag_opt.plotting import plot_dynamic_objective
+
+        written = plot_dynamic_objective(study, plots / "dynamic_objective.png")
+    data = study.to_dict()
+    data["system"] = stitch_summary(catenary)
+    print_warnings(data["warnings"])
+    if args.json:
+        print_json({"decision": decision_json(answer.decision, ROBUST_OPTIONS), **data})
+        return 0
+    print_decision(answer.decision.lines(ROBUST_OPTIONS))
+    loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
+    fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
+    within = settings["within"]
+    print(f"Dynamic robust pre-sag: {study.where()}")
+    print(f"system: {data['system']}")
+    beta_low, beta_high = data["beta"]
+    print(f"simulated band: β {beta_low:.2f}–{beta_high:.2f}; objective: {data['risk']} of {loss}; "
+          f"uplift limit {data['uplift_limit_mm']:g} mm")
+    rows = [(m["method"], m["presag_mm"], m["objective"], m["worst_case_objective"], m["mean_objective"],
+             m["uplift_max_mm"], m["cost_s"], "yes" if m["within_tolerance"] else "no") for m in data["methods"]]
+    print(table(["method", f"S on {data['reference_span_m']:g} m [mm]", "objective", f"worst {loss}", f"mean {loss}",
+                 "max uplift [mm]", "cost [s]", "in dynamic tolerance"],
+                rows, ["{}", "{:.1f}", fmt, fmt, fmt, "{:.1f}", "{:.0f}", "{}"]))
+    low, high = data["tolerance_mm"]
+    print(f"\nDynamic tolerance (worst case within {100 * within:g} % of its minimum): {low:.1f}–{high:.1f} mm")
+    print(f"Simulation: {data['runs_used']} runs at {data['presags_simulated']} pre-sags "
+          f"(search {data['search_runs']} runs, {data['search_time_s']:.0f} s; whole study {data['wall_time_s']:.0f} s)")
+    if written:
+        print(f"Plot saved to {written}")
+    return 0
+
+
+def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, risk, settings: dict,
+                   points) -> int:
+    """``presag robust --dynamic --pantograph A,B,...``: the fleet design beside each type's own optimum (a
+    fleet design is not yet evidence of the band's decision: it prints no decision)."""
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.robust.dynamic_design import DynamicObjective
+    from presag_opt.robust.dynamic_study import simulated_band
     from presag_opt.robust.fleet import fleet_robust_study
+
+    objective = DynamicObjective(loss=_dynamic_option(args, "objective"), risk=risk,
+                                 uplift_limit=settings["uplift_limit"])
+    within = settings["within"]
 
     shares = args.fleet_shares
     if shares is not None:
@@ -398,9 +394,9 @@ def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, o
         shares = [s / sum(shares) for s in shares]
     pantographs = [load_pantograph(n) for n in names]
     with progress(args) as report:
-        design = fleet_robust_study(catenary, pantographs, band, shares=shares, spacing=args.second_pantograph_at,
-                                    objective=objective, within=within, static_points=int(points[0]),
-                                    speed_points=int(points[1]), workers=_dynamic_option(args, "workers"),
+        design = fleet_robust_study(catenary, pantographs, simulated_band(band), shares=shares,
+                                    spacing=args.second_pantograph_at, objective=objective, within=within,
+                                    static_points=int(points[0]), speed_points=int(points[1]), workers=workers_of(args),
                                     progress=report)
     data = design.to_dict()
     data["catenary"] = catenary.name

@@ -12,6 +12,7 @@ from presag_opt.cli.common import (
     progress_enabled,
     table,
 )
+from presag_opt.cli.decision_options import add_workers_option, workers_of
 
 DEFAULT_CASE = "case_study_st98"
 
@@ -33,9 +34,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ),
     )
     p.add_argument("case", nargs="?", default=DEFAULT_CASE, help=f"case file or built-in name (default {DEFAULT_CASE})")
-    p.add_argument("--output", required=True, metavar="OUTPUT",
-                   help="recommendation | robust | dynamic-robust | dynamic:V1,V2 | minima:V | validity:V1,V2,... "
-                        "(speeds in km/h)")
+    p.add_argument("--quantity", dest="output", required=True, metavar="QUANTITY",
+                   help="the result whose sensitivity is analysed: recommendation | robust | dynamic-robust | "
+                        "dynamic:V1,V2 | minima:V | validity:V1,V2,... (speeds in km/h)")
     p.add_argument("--method", choices=["morris", "sobol", "spread"], default="morris",
                    help="morris (screen), sobol (S1, ST) or spread (the output's mean and spread only)")
     p.add_argument("--inputs", metavar="NAME,...", default=None,
@@ -45,7 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--samples", metavar="N", type=int, default=None,
                    help="Morris trajectories (default 10) or Sobol base sample, a power of two (default 64)")
     p.add_argument("--seed", metavar="N", type=int, default=0, help="seed of the design and bootstrap (default 0)")
-    p.add_argument("--workers", metavar="N", type=int, default=1, help="local worker processes (default 1)")
+    add_workers_option(p, scheduler=True)
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run the evaluations on (e.g. tcp://host:8786)")
     p.add_argument("--out", metavar="STORE", default=None,
@@ -57,11 +58,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def sensitivity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag sensitivity``."""
-    from presag_opt.errors import ModelError
     from presag_opt.sensitivity import sensitivity_analysis
 
-    if args.scheduler is not None and args.workers != 1:
-        raise ModelError("give either --workers or --scheduler, not both")
+    workers = workers_of(args)
     plot = output_folder(args.plot, "--plot") if args.plot else None
     out = output_folder(args.out, "--out") if args.out else None
     show = progress_enabled(args)
@@ -76,7 +75,7 @@ def sensitivity_command(args: argparse.Namespace) -> int:
     inputs = [n.strip() for n in args.inputs.split(",") if n.strip()] if args.inputs else None
     result = sensitivity_analysis(
         args.case, output=args.output, method=args.method, inputs=inputs, ranges=args.ranges, samples=args.samples,
-        seed=args.seed, workers=args.workers, scheduler=args.scheduler, out=out, announce=announce,
+        seed=args.seed, workers=workers, scheduler=args.scheduler, out=out, announce=announce,
         progress=progress)
     paths = save_sensitivity_figures(result, plot) if plot and result.method != "spread" else []
     if args.json:

@@ -7,16 +7,18 @@ import os
 
 from presag_opt.cli.common import (
     add_json_flag,
+    add_plot_option,
     float_list,
     form_find_for,
     model_help,
-    output_path,
+    plot_folder,
     positive_float,
     print_json,
     progress,
     progress_enabled,
     table,
 )
+from presag_opt.cli.decision_options import add_element_length_option
 from presag_opt.elasticity import DEFAULT_FORCES, elasticity_study
 from presag_opt.errors import ModelError
 from presag_opt.static import cache
@@ -36,7 +38,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
     p.add_argument("--span", metavar="NUMBER", type=int, default=None, help="print only this span (counted from 1)")
-    add_element_flag(p)
+    add_element_length_option(p)
     add_json_flag(p)
     p.set_defaults(handler=form_find_command)
 
@@ -55,9 +57,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--linear", action="store_true", help="add the linear (tangent stiffness) curve, every 0.1 m")
     p.add_argument("--presag", metavar="MM", type=positive_float, default=None,
                    help="override the model's pre-sag: mid-span pre-sag of the longest span in mm")
-    p.add_argument("--plot", metavar="FILE", default=None,
-                   help="save a plot of the curves; the suffix sets the format (.png, .pdf, .svg, ...; none: .png)")
-    add_element_flag(p)
+    add_plot_option(p, "the curves")
+    add_element_length_option(p)
     add_json_flag(p)
     p.set_defaults(handler=elasticity_command)
 
@@ -70,12 +71,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--clear", action="store_true", help="delete the cached states")
     p.set_defaults(handler=cache_command)
-
-
-def add_element_flag(parser: argparse.ArgumentParser) -> None:
-    """Add ``--element-length``."""
-    parser.add_argument("--element-length", metavar="M", type=positive_float, default=0.5,
-                        help="longest element in m (default 0.5; valid 0.01-5, small values take long)")
 
 
 def span_index(args: argparse.Namespace, n_spans: int) -> int | None:
@@ -125,7 +120,7 @@ def form_find_command(args: argparse.Namespace) -> int:
 
 def elasticity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag elasticity``."""
-    plot = output_path(args.plot) if args.plot else None
+    plots = plot_folder(args)
     catenary = load_catenary(args.model)
     if args.presag is not None:
         catenary = catenary.with_presag(args.presag * 1e-3 / max(catenary.layout.span_lengths))
@@ -135,10 +130,11 @@ def elasticity_command(args: argparse.Namespace) -> int:
     with progress(args, total=len(args.forces) + args.linear) as report:
         study = elasticity_study(state, span=span, forces=args.forces, step=args.step, linear=args.linear,
                                  progress=report, workers=os.cpu_count() or 1)
-    if plot:
+    plot = None
+    if plots:
         from presag_opt.plotting import plot_elasticity
 
-        plot = plot_elasticity(study, plot)
+        plot = plot_elasticity(study, plots / "elasticity.png")
     if args.json:
         print_json(study.to_dict())
         return 0

@@ -13,6 +13,7 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
+from presag_opt.cli.decision_options import add_workers_option, workers_of
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import builtin_model_names
 
@@ -34,8 +35,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("study", nargs="?", default=DEFAULT_STUDY,
                    help=f"study file or built-in name (default {DEFAULT_STUDY})")
     p.add_argument("--out", metavar="PATH", required=True, help="netCDF store to write (e.g. study.nc)")
-    p.add_argument("--workers", metavar="N", type=int, default=None,
-                   help="local worker processes (default: the CPU count; not with --scheduler)")
+    add_workers_option(p, scheduler=True)
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run on instead (e.g. tcp://host:8786)")
     p.add_argument("--allow-supercritical", action="store_true",
@@ -81,11 +81,12 @@ def sweep_command(args: argparse.Namespace) -> int:
     check_study_path(store)
     check_study_speeds(definition, args.allow_supercritical)
     print_warnings(str(w.message) for w in caught)
+    workers = workers_of(args)
     if args.scheduler is None:
-        announce_work(args, estimate_study(definition, store, workers=args.workers))
+        announce_work(args, estimate_study(definition, store, workers=workers))
     with progress(args, total=None) as report:
-        outcome = run_study(definition, store, workers=args.workers, scheduler=args.scheduler, progress=report,
-                            allow_supercritical=args.allow_supercritical)
+        outcome = run_study(definition, store, workers=None if args.scheduler else workers, scheduler=args.scheduler,
+                            progress=report, allow_supercritical=args.allow_supercritical)
     print(f"{definition.name}: {outcome.runs_total} runs ({outcome.units_computed} of {outcome.units_total} units "
           f"computed now, the rest resumed), {outcome.runs_failed} failed; store {outcome.store}")
     return 0

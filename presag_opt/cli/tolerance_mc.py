@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from presag_opt.cli.common import output_folder, output_path, print_json, progress, table
+from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, table
 from presag_opt.errors import ModelError
 
 MAX_ERROR_MM = 100.0
@@ -48,9 +48,8 @@ def add_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--presag-mm", metavar="MM", default=None,
                    help="the design's pre-sag on the reference span in mm (default the robust parabola of the band)")
     g.add_argument("--dynamic", action="store_true",
-                   help="simulate every realisation over F_stat 70–140 N × 50–90 km/h (4 × 3 points, the case-study "
-                   "pantograph, α_ae 0.00097 N/(km/h)^2)")
-    g.add_argument("--workers", metavar="N", default="2", help="processes of --dynamic (default 2)")
+                   help="simulate every realisation over the band's static forces × speeds (from 50 km/h; 4 × 3 "
+                   "points, the case-study pantograph)")
     g.add_argument("--out", metavar="DIR", default=None,
                    help="folder keeping every finished realisation of --dynamic: a killed run, started again with "
                    "the same options, simulates only the rest")
@@ -85,8 +84,8 @@ def check_options(args: argparse.Namespace) -> None:
     for name in ("dynamic", "find_dropper_tolerance"):
         if getattr(args, name):
             raise ModelError(f"--{name.replace('_', '-')} is an option of the Monte Carlo; add --monte-carlo")
-    if args.distribution != "normal" or args.seed != "0" or args.workers != "2":
-        raise ModelError("--distribution, --seed and --workers are options of the Monte Carlo; add --monte-carlo")
+    if args.distribution != "normal" or args.seed != "0":
+        raise ModelError("--distribution and --seed are options of the Monte Carlo; add --monte-carlo")
 
 
 def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dynamic_defaults: dict) -> int:
@@ -103,7 +102,8 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
         Allowed loss of the held percentile relative to the error-free worst case, for
         ``--find-dropper-tolerance`` (0.1 for 10 %). [-]
     dynamic_defaults : dict
-        Defaults of ``presag robust --dynamic`` (band, grid, pantograph, α_ae).
+        The band of the command (``band``) and the defaults of ``presag robust --dynamic`` (grid,
+        pantograph).
 
     Returns
     -------
@@ -129,7 +129,8 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
     if args.out is not None and not args.dynamic:
         raise ModelError("--out keeps the realisations of --dynamic (the quasi-static Monte Carlo takes seconds); "
                          "add --dynamic or drop --out")
-    plot = output_path(args.plot) if args.plot else None
+    plots = plot_folder(args)
+    plot = None if plots is None else plots / "monte_carlo.png"
     out = output_folder(args.out) if args.out is not None else None
     errors = InstallationErrors(dropper_length=(dropper or 0.0) * 1e-3, contact_wire_height=height * 1e-3,
                                 messenger_height=height * 1e-3, distribution=args.distribution)
@@ -184,16 +185,15 @@ def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
 
 
 def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d, out=None):
-    from presag_opt.design.band import KMH, OperatingBand
+    from presag_opt.design.band import KMH
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.dynamics.settings import SimulationSettings
     from presag_opt.robust import OperatingGrid
     from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
+    from presag_opt.robust.dynamic_study import simulated_band
     from presag_opt.system.loader import load_catenary
 
-    (f_low, f_high), (v_low, v_high) = d["static_force"], d["speed"]
-    band = OperatingBand(static_force_low=f_low, static_force_high=f_high, speed_low=v_low * KMH,
-                         speed_high=v_high * KMH, aero_coefficient=d["aero"] / KMH**2)
+    band = simulated_band(d["band"])
     grid = OperatingGrid.from_band(band, static_points=int(d["grid_points"][0]), speed_points=int(d["grid_points"][1]))
     catenary, pantograph = load_catenary(args.model), load_pantograph(d["pantograph"])
     settings = SimulationSettings(numerics="auto")

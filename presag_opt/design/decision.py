@@ -188,7 +188,9 @@ class Decision:
         if span_lengths:
             lo, hi = min(span_lengths), max(span_lengths)
             size = (f"{self.presag_rel * 1e3:.2f} ‰ × span length ({self.presag_rel * lo * 1e3:.0f}–"
-                    f"{self.presag_rel * hi * 1e3:.0f} mm on {lo:g}–{hi:g} m spans)")
+                    f"{self.presag_rel * hi * 1e3:.0f} mm on {lo:g}–{hi:g} m spans)" if hi > lo else
+                    f"{self.presag_rel * 1e3:.2f} ‰ × span length ({self.presag_rel * lo * 1e3:.0f} mm on {lo:g} m "
+                    "spans)")
         else:
             size = f"{self.presag_rel * 1e3:.2f} ‰ = {self.mm(self.presag_rel):.0f} mm on {self.reference_span:g} m"
         text = f"{size} ({self.basis})"

@@ -187,21 +187,34 @@ class ValiditySweep:
 
 @dataclass(frozen=True, kw_only=True)
 class DynamicUpliftCheck:
-    """The built pre-sag simulated at the band's worst points.
+    """A line's worst section simulated at the band's worst points, at the pre-sags the decision may build.
 
     Attributes
     ----------
-    presag_rel : float
-        The S_rel simulated. [-]
-    uplift : float
-        Largest steady-arm uplift of the runs. [m]
+    simulated : tuple of (float, float)
+        Every simulated pre-sag: (S_rel [-], largest steady-arm uplift of its runs [m]), increasing in S.
     where : str
         What was simulated (e.g. a line's worst section at the band's top speed).
     """
 
-    presag_rel: float
-    uplift: float
+    simulated: tuple[tuple[float, float], ...]
     where: str
+
+    def __post_init__(self) -> None:
+        if not self.simulated:
+            raise ModelError("dynamic check: give at least one simulated pre-sag")
+        object.__setattr__(self, "simulated", tuple(sorted((float(s), float(u)) for s, u in self.simulated)))
+
+    def uplift_at(self, presag_rel: float) -> float | None:
+        """Simulated uplift at a pre-sag: at a simulated S, or the larger of the two that bracket it; None
+        outside the simulated range. [m]
+
+        Parameters
+        ----------
+        presag_rel : float
+            S_rel. [-]
+        """
+        return _bracketed([s for s, _ in self.simulated], np.array([u for _, u in self.simulated]), presag_rel)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -390,9 +403,7 @@ class Evidence:
             Uplift [m] (None if unknown) and ``"dynamic"`` or ``"static estimate"``.
         """
         for value in (None if self.dynamic_robust is None else self.dynamic_robust.uplift_at(presag_rel),
-                      None if self.dynamic_check is None or not math.isclose(self.dynamic_check.presag_rel, presag_rel,
-                                                                             rel_tol=1e-6)
-                      else self.dynamic_check.uplift,
+                      None if self.dynamic_check is None else self.dynamic_check.uplift_at(presag_rel),
                       None if self.validity_sweep is None else self.validity_sweep.uplift_at(presag_rel)):
             if value is not None and math.isfinite(value):
                 return value, "dynamic"

@@ -36,6 +36,7 @@ from presag_opt.design.band import OperatingBand, force_levels_for_band
 from presag_opt.design.line_results import (
     DropperDesign,
     LineDesign,
+    LineSizing,
     SectionDesign,
     SectionSizing,
     SpanDesign,
@@ -103,15 +104,15 @@ class LineOptions:
             raise ModelError(f"workers = {self.workers} is outside the valid range [1, 64]")
 
 
-def design_line(
+def size_line(
     survey: Survey,
     base: Catenary,
     band: OperatingBand,
     options: LineOptions | None = None,
     progress: Callable[[str], None] | None = None,
     span_rule=None,
-) -> LineDesign:
-    """Design every tension section of a surveyed line (see the module docstring).
+) -> LineSizing:
+    """Pass 1: size every tension section of a surveyed line on the base model's geometry.
 
     Parameters
     ----------
@@ -128,11 +129,10 @@ def design_line(
         Called with a short message as sections finish.
     span_rule : RobustSpanRule, optional
         The per-span quasi-static robust rule (:class:`presag_opt.robust.span_design.RobustSpanRule`;
-        the design layer does not import the robust one): called as ``span_rule(state, elasticity,
-        sized_spans, band, settings)`` on each section's sizing pass for the pre-sags of rule
-        ``robust``, and as ``span_rule.intervals(state, elasticity, sized_spans, band)`` on the built
-        section for every rule, for each sized span's own tolerance. Picklable, as it runs in the
-        worker processes.
+        the design layer does not import the robust one), called as ``span_rule(state, elasticity,
+        sized_spans, band, settings)`` on each section: every sized span's own robust pre-sag and
+        tolerance (the pre-sags of rule ``robust``, and the tolerance each span's built pre-sag is
+        checked against under every rule). Picklable, as it runs in the worker processes.
 
     Raises
     ------
@@ -150,16 +150,63 @@ def design_line(
     low, high = band.mean_force_band()
     levels = force_levels_for_band(low, high)
     settings = StaticSettings(element_length=options.element_length, geometry_tolerance=options.geometry_tolerance)
-    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings,
-                                           span_rule if options.rule == "robust" else None) for c in catenaries],
+    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings, span_rule) for c in catenaries],
                           options.workers, "sizing", progress)
-    presag_rel = float(np.mean([end for s in sizing for end in s.recommendation.presag_rel_range]))
-    jobs = [(c, sec, size, presag_rel, options.rule, band, settings, survey.working_width, levels, options.step,
-             span_rule) for c, sec, size in zip(catenaries, sections, sizing)]
+    return LineSizing(survey=survey, base_name=base.name, band=band, options=options, sections=tuple(sections),
+                      sizing=tuple(sizing), levels=tuple(levels), settings=settings)
+
+
+def build_line(sizing: LineSizing, presag_rel: float, progress: Callable[[str], None] | None = None) -> LineDesign:
+    """Pass 2: build every section at its pre-sags and read the line as built.
+
+    Parameters
+    ----------
+    sizing : LineSizing
+        Pass 1 (:func:`size_line`).
+    presag_rel : float
+        The S_rel to build: in every span under rule ``proportional`` (the decision's), in the end
+        spans under rule ``per-span``. [-]
+    progress : callable, optional
+        Called with a short message as sections finish.
+    """
+    options = sizing.options
+    jobs = [(size.catenary, sec, size, presag_rel, options.rule, sizing.band, sizing.settings,
+             sizing.survey.working_width, sizing.levels, options.step)
+            for sec, size in zip(sizing.sections, sizing.sizing)]
     built = _in_parallel(_build_section, jobs, options.workers, "building", progress)
     notes = (OVERLAP_NOTE, "elasticity per span is that of the line as built, at the band-centre F_m")
-    return LineDesign(survey=survey, base_name=base.name, band=band, options=options, presag_rel=presag_rel,
-                      sections=tuple(built), notes=notes)
+    return LineDesign(survey=sizing.survey, base_name=sizing.base_name, band=sizing.band, options=options,
+                      presag_rel=presag_rel, sections=tuple(built), notes=notes)
+
+
+def design_line(
+    survey: Survey,
+    base: Catenary,
+    band: OperatingBand,
+    options: LineOptions | None = None,
+    progress: Callable[[str], None] | None = None,
+    span_rule=None,
+) -> LineDesign:
+    """Size and build a surveyed line at the Δe rule's S_rel, without a decision (:func:`size_line`,
+    :func:`build_line`; the decision for a line is :func:`presag_opt.pipeline.line.answer_line`).
+
+    Parameters
+    ----------
+    survey : Survey
+        Masts, sections and their geometry.
+    base : Catenary
+        The system model.
+    band : OperatingBand
+        Static forces, speeds and α_ae.
+    options : LineOptions, optional
+        Pre-sag rule and numerics.
+    progress : callable, optional
+        Called with a short message as sections finish.
+    span_rule : RobustSpanRule, optional
+        See :func:`size_line`.
+    """
+    sizing = size_line(survey, base, band, options, progress, span_rule)
+    return build_line(sizing, sizing.presag_rel, progress)
 
 
 def _named(job: Callable, *args):
@@ -203,7 +250,8 @@ def _size_section(catenary: Catenary, levels, band: OperatingBand, step: float,
                               force_levels=everything.force_levels, elasticity_method=everything.elasticity_method,
                               step=everything.step)
     rule = None if span_rule is None else span_rule(state, everything, sorted(inner), band, settings)
-    return SectionSizing(recommendation=layout_recommendation(sized, band), elasticity=everything, span_presags=rule)
+    return SectionSizing(catenary=catenary, recommendation=layout_recommendation(sized, band), elasticity=everything,
+                         span_presags=rule)
 
 
 def _sized_spans(catenary: Catenary) -> tuple[int, ...]:
@@ -226,9 +274,9 @@ def _span_presags(catenary: Catenary, sizing: SectionSizing, presag_rel: float, 
 
 def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSizing, presag_rel: float,
                    rule: str, band: OperatingBand, settings: StaticSettings, working_width: float, levels,
-                   step: float, span_rule=None) -> SectionDesign:
-    """Pass 2 of one section: form-find at the pre-sag to build; elasticity as built; spans, droppers,
-    rule checks, and each sized span's own tolerance where there is a span rule."""
+                   step: float) -> SectionDesign:
+    """Pass 2 of one section: form-find at the pre-sag to build; elasticity as built; spans (each sized
+    one with its own tolerance from the span rule, where there is one), droppers, rule checks."""
     presag = _span_presags(catenary, sizing, presag_rel, rule)
     lengths = np.asarray(catenary.layout.span_lengths)
     if rule == "proportional":
@@ -246,20 +294,19 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     curves = dict(zip(as_built.spans, as_built.curves_at(centre)))
     arm = state.steady_arm_forces()
     inner = _sized_spans(catenary)
-    checks = {} if span_rule is None else {
-        c.span: c for c in span_rule.intervals(state, as_built, sorted(inner), band)}
+    own = sizing.span_presags
 
     def span_design(s: int) -> SpanDesign:
         termination = s == 0  # from_mast of the first span is the section's termination
-        check = checks.get(s)
+        checked = own is not None and s in inner and not np.isnan(own.tolerance[s]).any()
         return SpanDesign(
             section=section.section, span=s + 1, from_mast=ids[s], to_mast=ids[s + 1],
             chainage=section.masts[s].chainage, length=float(lengths[s]), presag=float(presag[s]),
             e_mid=curves[s].e_mid, e_mast=float(curves[s].elasticity[0]), delta_e=curves[s].delta_e,
             steady_arm_force=None if termination or not len(arm) else float(arm[s]),
             static_uplift=None if termination else top * float(curves[s].elasticity[0]), sized=s in inner,
-            tolerance=None if check is None else (check.tolerance[0] * lengths[s], check.tolerance[1] * lengths[s]),
-            robust_presag=None if check is None else check.presag_rel * lengths[s],
+            tolerance=(float(own.tolerance[s, 0]), float(own.tolerance[s, 1])) if checked else None,
+            robust_presag=float(own.presag[s]) if checked else None,
             note="" if s in inner else END_SPAN_NOTE)
 
     spans = tuple(span_design(s) for s in range(len(lengths)))

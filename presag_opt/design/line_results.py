@@ -21,6 +21,9 @@ from presag_opt.system.survey import Survey
 
 if TYPE_CHECKING:
     from presag_opt.design.line import LineOptions
+    from presag_opt.static.discretisation import StaticSettings
+    from presag_opt.system.survey import SurveySection
+
 
 @dataclass(frozen=True, kw_only=True)
 class SpanPresags:
@@ -54,17 +57,102 @@ class SectionSizing:
 
     Attributes
     ----------
+    catenary : Catenary
+        The section's model at the base model's pre-sag.
     recommendation : LayoutRecommendation
         The quasi-static Δe rule over the band, from the sized (inner) spans.
     elasticity : SectionElasticity
-        The elasticity curves of every span (the end spans too, for the span table).
+        The elasticity curves of every span (the end spans too).
     span_presags : SpanPresags or None
-        The span rule's pre-sags (rule ``robust``), else None.
+        The span rule's pre-sags and tolerances (given a span rule), else None.
     """
 
+    catenary: Catenary
     recommendation: LayoutRecommendation
     elasticity: SectionElasticity
     span_presags: SpanPresags | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineSizing:
+    """Pass 1 of a line: every section sized on the base model's geometry, before the pre-sag is chosen.
+
+    Attributes
+    ----------
+    survey : Survey
+        The input.
+    base_name : str
+        The system model used.
+    band : OperatingBand
+        Forces and speeds.
+    options : LineOptions
+        Pre-sag rule and numerics.
+    sections : tuple of SurveySection
+        The survey's tension sections.
+    sizing : tuple of SectionSizing
+        Each section sized.
+    levels : tuple of float
+        The elasticity force levels. [N]
+    settings : StaticSettings
+        The static model's settings.
+    """
+
+    survey: Survey
+    base_name: str
+    band: OperatingBand
+    options: LineOptions
+    sections: tuple[SurveySection, ...]
+    sizing: tuple[SectionSizing, ...]
+    levels: tuple[float, ...]
+    settings: StaticSettings
+
+    @property
+    def presag_rel(self) -> float:
+        """The line's S_rel by the Δe rule: the mean of the sections' range ends. [-]"""
+        return float(np.mean([end for s in self.sizing for end in s.recommendation.presag_rel_range]))
+
+    @property
+    def sized_span_lengths(self) -> tuple[float, ...]:
+        """Lengths of the spans that size the pre-sag, every section. [m]"""
+        return tuple(float(s.recommendation.at_band_low.span_lengths[i])
+                     for s in self.sizing for i in range(len(s.recommendation.at_band_low.spans)))
+
+    def worst_section(self) -> int:
+        """Index of the section with the largest static steady-arm uplift estimate of its sized spans."""
+        return int(np.argmax([s.recommendation.steady_arm_uplift.uplift for s in self.sizing]))
+
+    def delta_e(self) -> DeltaERule:
+        """The line's Δe rule as evidence (:mod:`presag_opt.design.evidence`): its S_rel, the envelope of
+        the sections' ranges and their largest static uplift estimate."""
+        layouts = [s.recommendation for s in self.sizing]
+        worst = layouts[self.worst_section()].steady_arm_uplift
+        return DeltaERule(presag_rel=self.presag_rel,
+                          presag_rel_range=(min(lay.presag_rel_range[0] for lay in layouts),
+                                            max(lay.presag_rel_range[1] for lay in layouts)),
+                          static_uplift=worst.uplift, support_elasticity=worst.support_elasticity)
+
+    def quasi_static_robust(self, within: float) -> QuasiStaticRobust | None:
+        """The sized spans' own quasi-static robust designs as one record: the mean of their S_rel and of
+        their tolerance ends (None without a span rule).
+
+        Parameters
+        ----------
+        within : float
+            The allowed loss their intervals were computed with. [-]
+        """
+        rel, low, high = [], [], []
+        for s in self.sizing:
+            if s.span_presags is None:
+                continue
+            lengths = np.asarray(s.catenary.layout.span_lengths)
+            sized = ~np.isnan(s.span_presags.tolerance[:, 0])
+            rel += list(s.span_presags.presag[sized] / lengths[sized])
+            low += list(s.span_presags.tolerance[sized, 0] / lengths[sized])
+            high += list(s.span_presags.tolerance[sized, 1] / lengths[sized])
+        if not rel:
+            return None
+        return QuasiStaticRobust(presag_rel=float(np.mean(rel)), tolerance=(float(np.mean(low)), float(np.mean(high))),
+                                 within=within)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -97,10 +185,10 @@ class SpanDesign:
     sized : bool
         Whether the span took part in sizing the pre-sag (not the section's end spans).
     tolerance : tuple of float or None
-        The span's own quasi-static tolerance interval of its mid-span pre-sag on the built
-        geometry (given a span rule; None for an end span). [m]
+        The span's own quasi-static tolerance interval of its mid-span pre-sag (the per-span robust
+        rule's, given one; None for an end span). [m]
     robust_presag : float or None
-        The span's own quasi-static robust pre-sag on the built geometry (with ``tolerance``). [m]
+        The span's own quasi-static robust pre-sag (with ``tolerance``). [m]
     note : str
         Why the span is not sized or checked (empty for a sized span).
     """
@@ -205,7 +293,8 @@ class LineDesign:
         Forces and speeds.
     options : LineOptions
     presag_rel : float
-        The line's S_rel by the Δe rule (mean of the sections' range ends). [-]
+        The S_rel the line is built with: in every span under rule ``proportional``, in the end spans
+        under rule ``per-span`` (:func:`presag_opt.design.line.build_line`). [-]
     sections : tuple of SectionDesign
     notes : tuple of str
         What is not modelled or checked.
@@ -233,35 +322,3 @@ class LineDesign:
     def rules(self) -> tuple[RuleCheck, ...]:
         """Every design-rule check."""
         return tuple(r for sec in self.sections for r in sec.rules)
-
-    @property
-    def sized_span_lengths(self) -> tuple[float, ...]:
-        """Lengths of the spans that size the pre-sag. [m]"""
-        return tuple(s.length for s in self.spans if s.sized)
-
-    def delta_e(self) -> DeltaERule:
-        """The line's Δe rule as evidence (:mod:`presag_opt.design.evidence`): its S_rel, the envelope of
-        the sections' ranges and their largest static uplift estimate."""
-        layouts = [sec.sizing.recommendation for sec in self.sections]
-        worst = max(layouts, key=lambda lay: lay.steady_arm_uplift.uplift).steady_arm_uplift
-        return DeltaERule(presag_rel=self.presag_rel,
-                          presag_rel_range=(min(lay.presag_rel_range[0] for lay in layouts),
-                                            max(lay.presag_rel_range[1] for lay in layouts)),
-                          static_uplift=worst.uplift, support_elasticity=worst.support_elasticity)
-
-    def quasi_static_robust(self, within: float) -> QuasiStaticRobust | None:
-        """The sized spans' own quasi-static robust designs as one record: the mean of their S_rel and of
-        their tolerance ends (None without span checks).
-
-        Parameters
-        ----------
-        within : float
-            The allowed loss their intervals were computed with. [-]
-        """
-        checked = [s for s in self.spans if s.tolerance is not None]
-        if not checked:
-            return None
-        return QuasiStaticRobust(
-            presag_rel=float(np.mean([s.robust_presag / s.length for s in checked])),
-            tolerance=(float(np.mean([s.tolerance[0] / s.length for s in checked])),
-                       float(np.mean([s.tolerance[1] / s.length for s in checked]))), within=within)

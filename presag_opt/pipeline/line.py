@@ -1,73 +1,79 @@
-"""The decision for a surveyed line: its design, every span's own tolerance, and one decision.
+"""The decision for a surveyed line: its sizing, one decision, the line built at it, every span checked.
 
-:func:`answer_line` is what ``presag design`` runs: the line design
-(:func:`~presag_opt.design.line.design_line`) with the per-span quasi-static robust rule always given, so
-that every sized span's built pre-sag is checked against its own tolerance interval on the built
-geometry whatever the pre-sag rule; on request the dynamic check of the built line at the band's worst
-points (:func:`line_dynamic_check`), a stored validity study and the dynamic robust design of the worst
-section. Each returns its record; :func:`~presag_opt.design.decision.decide` runs once.
+:func:`answer_line` is what ``presag design`` runs, in this order:
 
-A span is flagged (:func:`span_flag`) where its built pre-sag lies outside its own tolerance, or
-closer to an end of it than the crew's build tolerance.
+1. **Sizing** (:func:`~presag_opt.design.line.size_line`) with the per-span quasi-static robust rule
+   always given: the Δe rule of every section, and every sized span's own robust pre-sag and
+   tolerance (re-linearised at its own pre-sag, as the robust study does).
+2. **Evidence**: the line's Δe rule, the mean of its spans' robust designs, on request a stored
+   validity study, the dynamic check of the worst section (the one with the largest static uplift
+   estimate) at the band's worst points at the pre-sags the decision may build
+   (:func:`line_dynamic_check`), and the dynamic robust design of that section.
+3. **The decision**, once (:func:`~presag_opt.design.decision.decide`).
+4. **Building** at the decided S_rel (:func:`~presag_opt.design.line.build_line`): the dropper
+   schedule, the line as built, and every sized span's built pre-sag against its own tolerance: a
+   span is flagged (:func:`span_flag`) where it lies outside it, or closer to an end than the crew's
+   build tolerance.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.decision import Decision, decide
 from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, crew_tolerance
-from presag_opt.design.line import LineOptions, design_line
-from presag_opt.design.line_results import LineDesign, SectionDesign, SpanDesign
+from presag_opt.design.line import LineOptions, build_line, size_line
+from presag_opt.design.line_results import LineDesign, LineSizing, SpanDesign
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
 from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
 from presag_opt.pipeline.validity import ValidityRange, stored_sweep
-from presag_opt.robust.dynamic_check import DynamicCheck, dynamic_check
+from presag_opt.robust.dynamic_check import DynamicCheck, dynamic_check, window_settings
 from presag_opt.robust.dynamic_design import DynamicObjective
 from presag_opt.robust.dynamic_study import DynamicRobustStudy, dynamic_robust_study, simulated_band
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.span_design import RobustSpanRule
 from presag_opt.robust.study import robust_study
-from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey
 
-SPAN_FLAGS = ("", "near an end of its tolerance", "outside its tolerance")
+SPAN_FLAGS = ("", "near an end of its own tolerance", "outside its own tolerance")
 """A sized span's built pre-sag: inside its own tolerance with at least the crew's margin; inside, but
 closer to an end than the crew's tolerance; outside."""
+
+COUNTED = {SPAN_FLAGS[1]: "near an end of their own tolerance", SPAN_FLAGS[2]: "outside their own tolerance"}
+"""The flags as the headline counts them."""
 
 
 @dataclass(frozen=True, kw_only=True)
 class LineDynamicCheck:
-    """The built line simulated at the band's worst points on its worst section.
+    """The worst section simulated at the band's worst points, at the pre-sags the decision may build.
 
     Attributes
     ----------
     section : str
         The section simulated: the one with the largest static steady-arm uplift estimate.
-    presag_rel : float
-        Its mean built S_rel. [-]
+    reference_span : float
+        Span the runs' pre-sags are quoted on (the section's shortest). [m]
     runs : DynamicCheck
-        The runs (top speed, lowest and highest static force).
+        The runs (top speed, lowest and highest static force) at every pre-sag.
     """
 
     section: str
-    presag_rel: float
+    reference_span: float
     runs: DynamicCheck
 
-    @property
-    def uplift(self) -> float:
-        """Largest steady-arm uplift of the runs. [m]"""
-        return max(r.uplift_max for r in self.runs.runs)
-
     def evidence(self) -> DynamicUpliftCheck:
-        """The check as evidence for a decision."""
-        return DynamicUpliftCheck(presag_rel=self.presag_rel, uplift=self.uplift,
-                                  where=f"section {self.section} as built, at the band's top speed")
+        """The check as evidence for a decision: the largest uplift at each simulated pre-sag."""
+        by_presag: dict[float, float] = {}
+        for run in self.runs.runs:
+            key = run.presag / self.reference_span
+            by_presag[key] = max(by_presag.get(key, 0.0), run.uplift_max)
+        return DynamicUpliftCheck(simulated=tuple(by_presag.items()),
+                                  where=f"section {self.section} at the band's top speed")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -79,7 +85,7 @@ class LineAnswer:
     design : LineDesign
         The line as built.
     check : LineDynamicCheck or None
-        The dynamic check, if run.
+        The dynamic check of the worst section, if run.
     dynamic : DynamicRobustStudy or None
         The dynamic robust design of the worst section, if run.
     validity : ValidityRange or None
@@ -111,7 +117,7 @@ class LineAnswer:
         """The decision's headline for the line (S_rel × span length) with the flagged spans counted."""
         lengths = [s.length for s in self.design.spans]
         checked = sum(1 for s in self.design.spans if s.tolerance is not None)
-        counts = "; ".join(f"{len(spans)} of {checked} sized spans {flag}"
+        counts = "; ".join(f"{len(spans)} of {checked} sized spans {COUNTED[flag]}"
                            for flag, spans in self.flagged().items() if spans)
         return self.decision.headline(lengths) + (f" — {counts} (spans.csv)" if counts else "")
 
@@ -143,39 +149,32 @@ def span_flag(span: SpanDesign, crew: float) -> str:
     return SPAN_FLAGS[2] if smallest < 0 else SPAN_FLAGS[1] if smallest < crew else SPAN_FLAGS[0]
 
 
-def worst_section(design: LineDesign) -> SectionDesign:
-    """The section with the largest static steady-arm uplift estimate among its sized spans."""
-    return max(design.sections, key=lambda sec: max((s.static_uplift for s in sec.spans
-                                                     if s.sized and s.static_uplift is not None), default=0.0))
-
-
-def section_presag_rel(section: SectionDesign) -> float:
-    """The section's mean built S_rel over its sized spans. [-]"""
-    sized = [s for s in section.spans if s.sized] or list(section.spans)
-    return sum(s.presag / s.length for s in sized) / len(sized)
-
-
-def line_dynamic_check(design: LineDesign, pantograph: Pantograph,
+def line_dynamic_check(sizing: LineSizing, presags: Sequence[float], pantograph: Pantograph,
                        progress: Callable[[str], None] | None = None) -> LineDynamicCheck:
-    """Simulate the band's worst points (top speed, lowest and highest static force) on the built
-    worst section.
+    """Simulate the band's worst points (top speed, lowest and highest static force) on the worst section
+    at each of the given pre-sags.
 
     Parameters
     ----------
-    design : LineDesign
-        The designed line.
+    sizing : LineSizing
+        The sized line (:meth:`~presag_opt.design.line_results.LineSizing.worst_section`).
+    presags : sequence of float
+        The S_rel to simulate (e.g. the ends of the quasi-static tolerance and the Δe rule). [-]
     pantograph : Pantograph
         The pantograph.
     progress : callable, optional
-        Called with a short message before the runs.
+        Called with a short message before each pre-sag's runs.
     """
-    worst = worst_section(design)
-    band = design.band
-    runs = dynamic_check(worst.catenary, {"built": worst.catenary}, pantograph=pantograph,
+    worst = sizing.worst_section()
+    catenary = sizing.sizing[worst].catenary
+    band = sizing.band
+    span = min(catenary.layout.span_lengths)
+    designs = {f"{s * span * 1e3:.1f} mm": s for s in sorted(set(presags))}
+    runs = dynamic_check(catenary, designs, pantograph=pantograph,
                          static_forces=sorted({band.static_force_low, band.static_force_high}),
-                         speeds=[band.speed_high], aero_coefficient=band.aero_coefficient,
-                         reference_span=min(design.sized_span_lengths or (60.0,)), progress=progress)
-    return LineDynamicCheck(section=worst.section, presag_rel=section_presag_rel(worst), runs=runs)
+                         speeds=[band.speed_high], aero_coefficient=band.aero_coefficient, reference_span=span,
+                         settings=window_settings(catenary), progress=progress)
+    return LineDynamicCheck(section=sizing.sections[worst].section, reference_span=span, runs=runs)
 
 
 def answer_line(
@@ -221,40 +220,42 @@ def answer_line(
     """
     options = options or LineOptions()
     installation = crew_tolerance(crew)
-    span_rule = RobustSpanRule(within=within)
     pantograph = None
     if check or dynamic is not None:
         source = CASE_STUDY_PANTOGRAPH if dynamic is None else dynamic.pantograph
         pantograph = source if isinstance(source, Pantograph) else load_pantograph(source)
-    design = design_line(survey, base, band, options, progress=progress, span_rule=span_rule)
-    delta_e = design.delta_e()
+    sizing = size_line(survey, base, band, options, progress=progress, span_rule=RobustSpanRule(within=within))
+    delta_e = sizing.delta_e()
+    quasi = sizing.quasi_static_robust(within)
     validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
-    line_check = None if not check else line_dynamic_check(design, pantograph, progress)
+    worst = sizing.sizing[sizing.worst_section()].catenary
+    line_check = None
+    if check:
+        line_check = line_dynamic_check(sizing, [*quasi.tolerance, quasi.presag_rel, delta_e.presag_rel], pantograph,
+                                        progress)
     study_dynamic = None
     if dynamic is not None:
-        worst = worst_section(design)
-        section = worst.catenary.with_presag(design.presag_rel)
+        section = worst.with_presag(delta_e.presag_rel)
         if progress:
-            progress(f"dynamic robust design of section {worst.section}")
-        quasi = robust_study(section, band.mean_force_band(), within=within,
-                             settings=StaticSettings(element_length=options.element_length),
-                             nominal_presag_rel=design.presag_rel, progress=progress)
+            progress(f"dynamic robust design of section {sizing.sections[sizing.worst_section()].section}")
+        robust = robust_study(section, band.mean_force_band(), within=within, settings=sizing.settings,
+                              nominal_presag_rel=delta_e.presag_rel, progress=progress)
         objective = DynamicObjective(loss=dynamic.objective, risk=dynamic.risk or Risk(), uplift_limit=uplift_limit)
         study_dynamic = dynamic_robust_study(section, pantograph, simulated_band(band), objective=objective,
                                              within=within, static_points=dynamic.static_points,
                                              speed_points=dynamic.speed_points, settings=dynamic.settings,
-                                             workers=dynamic.workers, quasi=quasi, progress=progress)
+                                             workers=dynamic.workers, quasi=robust, progress=progress)
     evidence = Evidence(
         wave_speed=base.contact_wire.wave_speed, speed_high=band.speed_high, uplift_limit=uplift_limit,
-        reference_span=min(design.sized_span_lengths), static_force_floor=band.static_force_low,
+        reference_span=min(sizing.sized_span_lengths), static_force_floor=band.static_force_low,
         static_force_estimate=highest_static_force_static(delta_e.support_elasticity, uplift_limit,
                                                           band.aero_coefficient, band.speed_high),
-        delta_e=delta_e, quasi_static_robust=design.quasi_static_robust(within),
+        delta_e=delta_e, quasi_static_robust=quasi,
         validity_sweep=None if validity is None else validity.record,
         dynamic_check=None if line_check is None else line_check.evidence(),
         dynamic_robust=None if study_dynamic is None else study_dynamic.evidence(),
         installation=installation, scope="line",
     )
-    return LineAnswer(design=design, check=line_check, dynamic=study_dynamic, validity=validity,
-                      decision=decide(evidence))
-
+    decision = decide(evidence)
+    design = build_line(sizing, decision.presag_rel, progress)
+    return LineAnswer(design=design, check=line_check, dynamic=study_dynamic, validity=validity, decision=decision)

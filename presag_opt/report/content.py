@@ -17,13 +17,18 @@ from presag_opt.design.band import CASE_STUDY_BAND, KMH, OperatingBand
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ModelError
-from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, BandAnswer, DynamicOptions, answer_band
+from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, BandAnswer, DynamicOptions, StaticNumerics, answer_band
 from presag_opt.robust.installation import InstallationErrors
 from presag_opt.system.loader import ModelEntry, load_catenary, model_entries, resolve_model_path
 from presag_opt.system.stitch import stitch_summary
 
 QUICK_SWEEP = {"element_length": 1.0, "time_step": 4e-3}
 """Numerics of a report's reduced sweep (coarse: its β* is indicative): element length [m], time step [s]."""
+
+REPORT_OPTIONS = {"validity_sweep": "--study STORE, a full study written by presag sweep",
+                  "dynamic_robust": "--dynamic-robust", "installation_monte_carlo": "--dropper-error MM"}
+"""The options of ``presag report`` that supply each kind of evidence a report can miss (named in its
+decision's "not checked")."""
 
 STATIC_NUMERICS = {"element_length": 0.5, "step": 0.5}
 """Numerics of the report's quasi-static parts, those of every command that decides for a band: the
@@ -91,6 +96,7 @@ def design_report(
     crew: float | None = None,
     installation_errors: InstallationErrors | None = None,
     dynamic: DynamicOptions | None = None,
+    element_length: float = STATIC_NUMERICS["element_length"],
     progress: Callable[[str], None] | None = None,
 ) -> DesignReport:
     """Compute a design report for a line (default: the paper's case study).
@@ -119,6 +125,8 @@ def design_report(
         Per-dropper and per-mast errors to derive the crew tolerance from by Monte Carlo. [m]
     dynamic : DynamicOptions, optional
         Also run the dynamic robust design of the first model.
+    element_length : float
+        Longest element of the static model. [m]
     progress : callable, optional
         Called with a short message before each expensive step.
 
@@ -139,7 +147,8 @@ def design_report(
         catenaries, band, within=within, uplift_limit=uplift_limit, crew=crew,
         installation_errors=installation_errors, study=study, sweep=None if study is not None else
         ("quick" if quick else "reduced"), sweep_numerics=(QUICK_SWEEP["element_length"], QUICK_SWEEP["time_step"]),
-        dynamic=dynamic, progress=progress)
+        dynamic=dynamic, numerics=StaticNumerics(element_length=element_length, step=STATIC_NUMERICS["step"]),
+        progress=progress)
     inputs = tuple(e for m in models for e in model_entries(m)) + model_entries(pantograph, "pantographs")
     sweep = None if answer.validity is None or study is not None else answer.validity.source
     return DesignReport(
@@ -177,7 +186,7 @@ def _assumptions(band: OperatingBand, within: float, sweep: str | None, quick: b
                    why=crew.source),
         Assumption(name="force scenarios of the robust design", value="17 equally likely F_m over the band",
                    why="the band is sampled evenly; the minimax design depends only on its ends in practice"),
-        Assumption(name="static numerics", value=f"{STATIC_NUMERICS['element_length']:g} m elements, "
+        Assumption(name="static numerics", value=f"{answer.robust.path.state.settings.element_length:g} m elements, "
                    f"{STATIC_NUMERICS['step']:g} m between elasticity points",
                    why="the paper's 0.5 m; the same numerics as every command that decides for a band"),
         Assumption(name="validity criterion", value="β where the Δe rule leaves the band of S within 5 % of the "

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from presag_opt.design.band import KMH
 from presag_opt.plotting import plot_elasticity, plot_presag_against_force, plot_waviness
-from presag_opt.report.content import DesignReport
+from presag_opt.report.content import REPORT_OPTIONS, DesignReport
 from presag_opt.studies.plots import save_validity_plots
 
 CSS = """
@@ -190,11 +190,6 @@ def _page(report: DesignReport, figures: dict[str, str]) -> str:
     return "\n".join(parts)
 
 
-REPORT_OPTIONS = {"validity_sweep": "--study STORE for a full study", "dynamic_robust": "--dynamic-robust",
-                  "installation_monte_carlo": "--dropper-error MM"}
-"""The options of ``presag report`` that supply each kind of evidence it can miss."""
-
-
 def decision_html(decision, options: dict[str, str], lines: list[str] | None = None) -> str:
     """The decision as the head of a page: what to build, why, margins, validity, what was not checked, the
     alternatives.
@@ -238,7 +233,7 @@ def _dependence_section() -> str:
     dep = recommendation_dependence()
     head = "<h2 id='dependence'>What this answer depends on</h2>"
     if dep is None:
-        return head + "<p>No screening is shipped; run <code>presag sensitivity --output recommendation</code>.</p>"
+        return head + "<p>No screening is shipped; run <code>presag sensitivity --quantity recommendation</code>.</p>"
     return head + f"<p>{_e(dep.note)}</p>" + _table(
         ["input", f"μ* [{dep.unit}]", "μ* / largest", "range varied"],
         [[name, f"{mu:.3f}", f"{rel:.2f}", rng] for name, mu, rel, rng in dep.rows], {1, 2})

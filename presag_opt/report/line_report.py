@@ -202,12 +202,13 @@ def line_page(answer: LineAnswer) -> str:
 
 def _check_html(check: LineDynamicCheck, limit: float) -> str:
     """The dynamic check's runs as an HTML table with a sentence (uplift limit in m)."""
-    rows = [[f"{r.speed / KMH:.0f}", f"{r.static_force:g}", f"{r.mean_force:.1f}", f"{r.sigma_over_mean:.3f}",
+    rows = [[r.design, f"{r.speed / KMH:.0f}", f"{r.static_force:g}", f"{r.mean_force:.1f}", f"{r.sigma_over_mean:.3f}",
              f"{r.uplift_max * 1e3:.1f}", f"{r.loss_of_contact * 100:.2f}"] for r in check.runs.runs]
-    return (f"<p>Section {_e(check.section)} as built (largest static uplift estimate), at the band's top speed and "
-            f"its lowest and highest static force; steady-arm uplift limit {limit * 1e3:g} mm.</p>"
-            + _table(["speed [km/h]", "F_stat [N]", "F_m [N]", "σ/F_m [-]", "uplift [mm]", "loss of contact [%]"],
-                     rows, {0, 1, 2, 3, 4, 5}))
+    return (f"<p>Section {_e(check.section)} (largest static uplift estimate) at the pre-sags the decision may build "
+            f"(S on its {check.reference_span:g} m span), at the band's top speed and its lowest and highest static "
+            f"force; steady-arm uplift limit {limit * 1e3:g} mm.</p>"
+            + _table(["pre-sag", "speed [km/h]", "F_stat [N]", "F_m [N]", "σ/F_m [-]", "uplift [mm]",
+                      "loss of contact [%]"], rows, {1, 2, 3, 4, 5, 6}))
 
 
 def plot_along_line(design: LineDesign, path: str | Path) -> Path:

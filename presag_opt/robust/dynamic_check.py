@@ -27,6 +27,20 @@ from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
 
 
+def window_settings(catenary: Catenary) -> SimulationSettings:
+    """Numerics of a check of a section: automatic, two lead-in and two analysed spans where the section
+    has them, fewer on a short one (lead-in spans on both sides of the analysed ones).
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The section to be simulated.
+    """
+    spans = catenary.layout.n_spans
+    lead_in = min(2, (spans - 1) // 2)
+    return SimulationSettings(numerics="auto", lead_in_spans=lead_in, analysed_spans=min(2, spans - 2 * lead_in))
+
+
 @dataclass(frozen=True, kw_only=True)
 class DynamicRun:
     """One simulated run of a design: operating point and EN 50367 statistics.

@@ -12,9 +12,9 @@ heights at its masts, so a height change between masts is not mistaken for wavin
 the spans on the sizing pass's geometry, form-finds again at those pre-sags, recomputes the
 elasticity there and sizes again (the elasticity is best taken near the optimal pre-sag, as
 :func:`~presag_opt.robust.study.robust_study` does), and gives the section's end spans, whose outer
-support is the termination, the mean S_rel of its sized spans. Whatever the rule, its
-:meth:`~RobustSpanRule.intervals` checks every sized span of the section as built: its own
-tolerance interval on the built geometry, against which the built pre-sag's margin is judged.
+support is the termination, the mean S_rel of its sized spans. Whatever the rule of the line, the
+decision pipeline (:func:`presag_opt.pipeline.line.answer_line`) runs this rule on every section: each
+sized span's built pre-sag is checked against its own tolerance interval.
 
 References
 ----------
@@ -142,25 +142,6 @@ class RobustSpanRule:
                                         step=elasticity.step, elasticity_method=elasticity.elasticity_method)
             designs = span_robust_designs(build_path_model(again, curves), scenarios, self.within)
         return _span_presags(catenary, designs)
-
-    def intervals(self, state: EquilibriumState, elasticity: SectionElasticity, sized: Sequence[int],
-                  band: OperatingBand) -> tuple[SpanRobust, ...]:
-        """Every sized span's minimax parabola and tolerance interval on a state as it is (no
-        re-linearisation): the check of a built section's pre-sags.
-
-        Parameters
-        ----------
-        state : EquilibriumState
-            The section form-found at its built pre-sag.
-        elasticity : SectionElasticity
-            Elasticity curves of (at least) the sized spans on ``state``.
-        sized : sequence of int
-            Spans to check, from 0. [-]
-        band : OperatingBand
-            Static forces, speeds and α_ae (the F_m band is designed for).
-        """
-        scenarios = ForceScenarios.band(*band.mean_force_band())
-        return span_robust_designs(build_path_model(state, _only(elasticity, sized)), scenarios, self.within)
 
 
 def _only(elasticity: SectionElasticity, spans: Sequence[int]) -> SectionElasticity:

@@ -159,13 +159,13 @@ def parse_output(text: str) -> tuple[str, tuple[float, ...]]:
     if kind in (*QUASI_STATIC, *PER_SAMPLE) and not sep:
         return kind, ()
     if kind not in DYNAMIC or not sep:
-        raise ModelError(f"--output {text!r} is not one of {', '.join(OUTPUT_NAMES)} (SPEEDS in km/h, e.g. dynamic:50,90)")
+        raise ModelError(f"--quantity {text!r} is not one of {', '.join(OUTPUT_NAMES)} (SPEEDS in km/h, e.g. dynamic:50,90)")
     try:
         speeds = tuple(float(s) * KMH for s in rest.split(","))
     except ValueError:
-        raise ModelError(f"--output {text!r}: the speeds must be numbers in km/h, e.g. {kind}:50,90") from None
+        raise ModelError(f"--quantity {text!r}: the speeds must be numbers in km/h, e.g. {kind}:50,90") from None
     if any(not 0.0 < s <= 600.0 * KMH for s in speeds) or list(speeds) != sorted(set(speeds)):
-        raise ModelError(f"--output {text!r}: speeds must be increasing and in (0, 600] km/h")
+        raise ModelError(f"--quantity {text!r}: speeds must be increasing and in (0, 600] km/h")
     return kind, speeds
 
 

@@ -1,4 +1,4 @@
-"""The dynamic robust pre-sag as a sensitivity output: ``presag sensitivity --output dynamic-robust``.
+"""The dynamic robust pre-sag as a sensitivity output: ``presag sensitivity --quantity dynamic-robust``.
 
 Each sample runs the dynamic robust study of the case-study band — the job behind
 ``presag robust --dynamic`` (:func:`presag_opt.robust.dynamic_study.dynamic_robust_study`: the

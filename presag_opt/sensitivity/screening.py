@@ -3,7 +3,7 @@
 A screening of the recommendation costs minutes (about 180 evaluations of the ideal and mixed
 sections), too much for every report. The one shipped in ``data/recommendation_morris.json`` was
 made by ``benchmarks/bench_sensitivity.py --part recommendation --save DIR`` (the same as
-``presag sensitivity --output recommendation --method morris --samples 10 --seed 0 --json``) on
+``presag sensitivity --quantity recommendation --method morris --samples 10 --seed 0 --json``) on
 the built-in ST 9,8/9,8 models; it holds for them only and says so. Re-run it after changing their
 values or ranges.
 """
@@ -62,5 +62,5 @@ def recommendation_dependence(top: int = 5, value: str = "presag_rel") -> Depend
             f"{data['seed']}) of the case study's recommendation on the built-in ST 9,8/9,8 ideal and mixed models over "
             f"{len(data['inputs'])} assumed inputs, each over its declared range (or ±20 %); μ* is the change of "
             f"{value} per change of the input over its whole range. Precomputed for the built-in models; "
-            "repeat for changed models with `presag sensitivity --output recommendation`.")
+            "repeat for changed models with `presag sensitivity --quantity recommendation`.")
     return Dependence(value=value, unit=table["unit"], rows=rows, note=note)

@@ -19,7 +19,7 @@ def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
 
 
 def test_morris_on_the_robust_output_json_plot_and_cost_announcement(tmp_path):
-    args = ("sensitivity", str(TINY), "--output", "robust", "--inputs",
+    args = ("sensitivity", str(TINY), "--quantity", "robust", "--inputs",
             "catenary.system_height,operation.aero_coefficient", "--samples", "2", "--seed", "3", "--json")
     result = presag(*args, "--plot", "figs", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -45,19 +45,19 @@ def test_morris_on_the_robust_output_json_plot_and_cost_announcement(tmp_path):
 
 
 BAD = [
-    (["--output", "robust", "--inputs", "pantograph.head.mass"],
+    (["--quantity", "robust", "--inputs", "pantograph.head.mass"],
      ["input pantograph.head.mass", "cannot depend on it", "quasi-static"]),
-    (["--output", "robust", "--inputs", "catenary.contact_wire.colour"], ["unknown input", "colour"]),
-    (["--output", "robust", "--range", "catenary.system_height=2:1"], ["--range catenary.system_height", "LOW < HIGH"]),
-    (["--output", "robust", "--range", "catenary.system_height=0.5:9"], ["9 m", "outside the valid range"]),
-    (["--output", "robust", "--range", "catenary.system_height"], ["NAME=LOW:HIGH"]),
-    (["--output", "sigma"], ["--output 'sigma' is not one of", "recommendation"]),
-    (["--output", "dynamic:fast"], ["speeds must be numbers in km/h"]),
-    (["--output", "robust", "--method", "sobol", "--samples", "100"], ["power of two"]),
-    (["--output", "robust", "--inputs", "operation.static_force"], ["cannot depend on it", "band of static forces"]),
-    (["--output", "dynamic-robust", "--inputs", "operation.static_force"],
+    (["--quantity", "robust", "--inputs", "catenary.contact_wire.colour"], ["unknown input", "colour"]),
+    (["--quantity", "robust", "--range", "catenary.system_height=2:1"], ["--range catenary.system_height", "LOW < HIGH"]),
+    (["--quantity", "robust", "--range", "catenary.system_height=0.5:9"], ["9 m", "outside the valid range"]),
+    (["--quantity", "robust", "--range", "catenary.system_height"], ["NAME=LOW:HIGH"]),
+    (["--quantity", "sigma"], ["--quantity 'sigma' is not one of", "recommendation"]),
+    (["--quantity", "dynamic:fast"], ["speeds must be numbers in km/h"]),
+    (["--quantity", "robust", "--method", "sobol", "--samples", "100"], ["power of two"]),
+    (["--quantity", "robust", "--inputs", "operation.static_force"], ["cannot depend on it", "band of static forces"]),
+    (["--quantity", "dynamic-robust", "--inputs", "operation.static_force"],
      ["output dynamic-robust cannot depend on it", "band of static forces"]),
-    (["--output", "dynamic-robust:50"], ["--output 'dynamic-robust:50' is not one of", "dynamic-robust"]),
+    (["--quantity", "dynamic-robust:50"], ["--quantity 'dynamic-robust:50' is not one of", "dynamic-robust"]),
 ]
 
 
