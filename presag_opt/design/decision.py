@@ -108,7 +108,13 @@ class Interval:
     why_not: str = ""
 
     def margins(self, presag_rel: float) -> tuple[float, float]:
-        """Distance of a pre-sag above the low end and below the high end (negative: outside). [-]"""
+        """Distance of a pre-sag above the low end and below the high end (negative: outside). [-]
+
+        Parameters
+        ----------
+        presag_rel : float
+            S_rel. [-]
+        """
         return (presag_rel - self.low, self.high - presag_rel)
 
 
@@ -174,7 +180,13 @@ class Decision:
         return min(values) if values else None
 
     def mm(self, presag_rel: float) -> float:
-        """A relative pre-sag in mm on the reference span. [mm]"""
+        """A relative pre-sag in mm on the reference span. [mm]
+
+        Parameters
+        ----------
+        presag_rel : float
+            S_rel. [-]
+        """
         return presag_rel * self.reference_span * 1e3
 
     def headline(self, span_lengths: Sequence[float] | None = None) -> str:
@@ -349,31 +361,39 @@ def decide(evidence: Evidence) -> Decision:
                       "no margin could be checked")
     low, high = max(i.low for i in in_force), min(i.high for i in in_force)
     names = " and ".join(f"{i.name} ({_mm(evidence, i.low)}–{_mm(evidence, i.high)} mm)" for i in in_force)
-    margin = min(preferred.presag_rel - low, high - preferred.presag_rel)
+    grid = np.linspace(low, high, _GRID)
+    keeps = np.array([_keeps(evidence, s) for s in grid])
+
+    def margin_at(s: float) -> float:
+        """Distance to the nearest end of the intersection or to a pre-sag whose uplift is over the limit."""
+        near = min(s - low, high - s)
+        return min(near, float(np.abs(grid[~keeps] - s).min())) if (~keeps).any() and near > 0 else near
+
+    crew_mm = evidence.installation.half_width * 1e3
+    margin = margin_at(preferred.presag_rel)
     if margin >= crew - 1e-12 and _keeps(evidence, preferred.presag_rel):
         return result(preferred.presag_rel, preferred.method, status,
                       f"{why}; {preferred.method} keeps a margin of {_mm(evidence, margin)} mm to the {names}, at least "
-                      f"the crew's ±{evidence.installation.half_width * 1e3:.1f} mm")
-    grid = np.linspace(low, high, _GRID)
-    feasible = grid[[_keeps(evidence, s) for s in grid]]
-    if feasible.size == 0:
+                      f"the crew's ±{crew_mm:.1f} mm")
+    if not keeps.any():
         return result(preferred.presag_rel, preferred.method, "uplift-bound",
                       f"{why}; no pre-sag inside the {names} keeps the steady-arm uplift within "
                       f"{limit * 1e3:g} mm", evidence.static_force_estimate)
-    margins = np.minimum(feasible - low, high - feasible)
-    best = float(feasible[np.lexsort((np.abs(feasible - preferred.presag_rel), -np.round(margins, 12)))[0]])
-    best_margin = float(min(best - low, high - best))
-    place = ("outside them" if margin < 0 else f"{_mm(evidence, margin)} mm from an end" if margin < crew
-             else "where the steady-arm uplift is over its limit")
-    moved = (f"{why}; {preferred.method} ({_mm(evidence, preferred.presag_rel)} mm) lies {place} of the {names}")
+    margins = np.array([margin_at(g) if k else -np.inf for g, k in zip(grid, keeps)])
+    best = float(grid[np.lexsort((np.abs(grid - preferred.presag_rel), -np.round(margins, 12)))[0]])
+    best_margin = float(margin_at(best))
+    place = ("lies outside them" if min(preferred.presag_rel - low, high - preferred.presag_rel) < 0
+             else "has its steady-arm uplift over the limit there" if not _keeps(evidence, preferred.presag_rel)
+             else f"lies {_mm(evidence, margin)} mm from an end of them or of the pre-sags that keep the uplift limit")
+    moved = f"{why}; {preferred.method} ({_mm(evidence, preferred.presag_rel)} mm) {place}: the {names}"
     if best_margin < crew - 1e-12:
         return result(best, LARGEST_MARGIN, "tolerance-bound",
-                      f"{moved}; their intersection is {_mm(evidence, high - low)} mm wide, less than twice the "
-                      f"crew's ±{evidence.installation.half_width * 1e3:.1f} mm: the largest margin, "
-                      f"{_mm(evidence, best_margin)} mm, is at {_mm(evidence, best)} mm")
+                      f"{moved}; the pre-sags inside them that keep the uplift limit leave at most "
+                      f"{_mm(evidence, best_margin)} mm of margin, less than the crew's ±{crew_mm:.1f} mm: the largest "
+                      f"margin is at {_mm(evidence, best)} mm")
     return result(best, LARGEST_MARGIN, status,
-                  f"{moved}; built at {_mm(evidence, best)} mm instead, the largest margin inside their intersection "
-                  f"({_mm(evidence, best_margin)} mm, at least the crew's ±{evidence.installation.half_width * 1e3:.1f} mm)")
+                  f"{moved}; built at {_mm(evidence, best)} mm instead, the largest margin inside them "
+                  f"({_mm(evidence, best_margin)} mm, at least the crew's ±{crew_mm:.1f} mm)")
 
 
 def _mm(evidence: Evidence, presag_rel: float) -> str:

@@ -286,7 +286,7 @@ class InstallationTolerance:
     def __post_init__(self) -> None:
         w = self.half_width
         if not (isinstance(w, (int, float)) and math.isfinite(w) and 0.0 <= w <= MAX_CREW_TOLERANCE):
-            raise ModelError(f"crew tolerance = {w * 1e3 if isinstance(w, (int, float)) else w!r} mm is outside "
+            raise ModelError(f"crew tolerance = {f'{w * 1e3:g}' if isinstance(w, (int, float)) else repr(w)} mm is outside "
                              f"the valid range [0, {MAX_CREW_TOLERANCE * 1e3:g}] mm")
         if self.kind not in INSTALLATION_KINDS:
             raise ModelError(f"installation tolerance kind {self.kind!r} is not one of {', '.join(INSTALLATION_KINDS)}")
@@ -342,8 +342,16 @@ class Evidence:
     static_force_estimate : float or None
         Highest static force whose static uplift estimate keeps the limit at the top speed (None
         where not computed). [N]
-    delta_e, quasi_static_robust, validity_sweep, dynamic_check, dynamic_robust
-        The records present (None where not computed).
+    delta_e : DeltaERule or None
+        The Δe rule (None where not computed).
+    quasi_static_robust : QuasiStaticRobust or None
+        The quasi-static robust design with its tolerance (None where not computed).
+    validity_sweep : ValiditySweep or None
+        A validity sweep (None where none was read or run).
+    dynamic_check : DynamicUpliftCheck or None
+        A line's dynamic check (None where not run).
+    dynamic_robust : DynamicRobust or None
+        The dynamic robust design (None where not run).
     installation : InstallationTolerance
         The crew's build tolerance (a setting, or the Monte Carlo's).
     scope : {"band", "line"}
@@ -420,14 +428,18 @@ def _nanmax(values: np.ndarray, axis: int) -> np.ndarray:
 
 
 def _bracketed(points, values: np.ndarray, at: float) -> float | None:
-    """``values`` at ``at`` on the increasing ``points``: the value there, or the larger of the two
-    bracketing points' (finite ones only); None outside or where neither is finite."""
+    """``values`` at ``at`` on the increasing ``points`` (finite values only): the value at a point there,
+    else the larger of the nearest points on either side; None outside the points' range or where no
+    point near it has a value."""
     points = np.asarray(points, dtype=float)
     values = np.asarray(values, dtype=float)
+    known = np.isfinite(values)
     if points.size == 0 or at < points[0] * (1 - 1e-9) - 1e-12 or at > points[-1] * (1 + 1e-9) + 1e-12:
         return None
-    same = np.isclose(points, at, rtol=1e-6, atol=0.0)
-    near = values[same] if same.any() else values[[max(0, np.searchsorted(points, at) - 1),
-                                                   min(len(points) - 1, np.searchsorted(points, at))]]
-    near = near[np.isfinite(near)]
+    same = np.isclose(points, at, rtol=1e-6, atol=0.0) & known
+    if same.any():
+        return float(values[same].max())
+    below = np.flatnonzero(known & (points < at))
+    above = np.flatnonzero(known & (points > at))
+    near = values[[*below[-1:], *above[:1]]]
     return float(near.max()) if near.size else None

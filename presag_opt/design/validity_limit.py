@@ -13,8 +13,9 @@ same band gets the same sentence everywhere.
   :func:`presag_opt.studies.validity_analysis.validity_analysis`. Its interval is [β* − u, β* + u].
   A stored study (``presag sweep``) of this contact wire is in force as it reads. A *reduced* sweep
   (run for a report, with coarse numerics) is in force only where it is stricter than the paper: it
-  may lower the limit, not raise it. A sweep with no speed below the band's top speed is
-  *indicative*: it cannot place the limit below the band, so it never replaces the paper's.
+  may lower the limit, not raise it. A sweep with no speed below the band's top speed (within
+  :data:`SAME_SPEED`) is *indicative*: it cannot place the limit below the band, so it never
+  replaces the paper's.
 
 **The verdict** compares the band's largest β with the interval: *holds* at or below its low end,
 *beyond* above its high end, and *at the limit* between them ("within the sweep's resolution" for a
@@ -45,6 +46,11 @@ PAPER_LIMIT = 0.40
 
 VERDICTS = ("holds", "at the limit", "beyond")
 """The band's largest β at or below the limit's low end; inside the limit's interval; above it."""
+
+SAME_SPEED = 0.01
+"""Relative difference of speed ratio within which a sweep's speed counts as the band's top speed (a
+sweep rounds its speeds to km/h, and its section's wave speed may differ from the line's in the last
+digits). [-]"""
 
 SWEEP_KINDS = ("study", "reduced")
 """A stored validity study, or a reduced sweep run for a report."""
@@ -157,7 +163,7 @@ def limit_in_force(sweep: SweepLimit | None, beta_max: float) -> tuple[ValidityL
     if sweep is None:
         return PAPER, ""
     reading = f"{sweep.name} reads {sweep.reading()}"
-    if sweep.grid_betas[0] >= beta_max - 1e-9:
+    if sweep.grid_betas[0] >= beta_max * (1.0 - SAME_SPEED):
         return PAPER, f"{reading}; it has no speed below the band's top speed, so it is indicative only"
     interval = sweep.interval()
     if interval is None:
@@ -259,6 +265,8 @@ def validity_statement(wave_speed: float, speed_high: float, sweep: SweepLimit |
                          f"[0, {wave_speed / KMH:.0f}) km/h (below the contact-wire wave speed)")
     beta_max = speed_high / wave_speed
     limit, note = limit_in_force(sweep, beta_max)
-    verdict = "holds" if beta_max <= limit.low else "beyond" if beta_max > limit.high else "at the limit"
+    close = 1e-9  # the interval's ends as written (0.49 − 0.03 is 0.45999… in binary)
+    verdict = ("holds" if beta_max <= limit.low + close else "beyond" if beta_max > limit.high + close
+               else "at the limit")
     return ValidityStatement(limit=limit, wave_speed=wave_speed, speed_high=speed_high, beta_max=beta_max,
                              verdict=verdict, note=note)

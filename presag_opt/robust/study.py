@@ -204,7 +204,15 @@ def robust_study(
 
 def layout_recommendation_rel(section, fm_band: tuple[float, float]) -> float:
     """The Δe rule's S_rel over an F_m band on a section: the mean of its range ends (one definition
-    with :func:`~presag_opt.design.recommendation.layout_recommendation`). [-]"""
+    with :func:`~presag_opt.design.recommendation.layout_recommendation`). [-]
+
+    Parameters
+    ----------
+    section : SectionElasticity
+        Curves whose force levels bracket the band.
+    fm_band : (float, float)
+        The F_m band. [N]
+    """
     return float(np.mean(presag_rel_range(section, *fm_band)))
 
 
