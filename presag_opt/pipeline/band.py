@@ -34,6 +34,7 @@ from presag_opt.robust.installation import InstallationErrors
 from presag_opt.robust.monte_carlo import MonteCarloResult, QuasiStaticMonteCarlo, installation_tolerance
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 from presag_opt.robust.study import RobustStudy, robust_study
+from presag_opt.robust.tolerance import check_within
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.loader import load_catenary
@@ -223,6 +224,7 @@ def answer_band(
         raise ModelError("give a stored study or a reduced sweep, not both")
     if crew is not None and installation_errors is not None:
         raise ModelError("give the crew tolerance or the installation errors to derive it from, not both")
+    check_within(within)
     numerics = numerics or StaticNumerics()
     names = tuple(m.name if isinstance(m, Catenary) else str(m) for m in models)
     catenaries = [m if isinstance(m, Catenary) else load_catenary(m) for m in models]

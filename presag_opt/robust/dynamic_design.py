@@ -44,6 +44,7 @@ from presag_opt.robust.band_evaluation import OBJECTIVES, BandEvaluator, BandSta
 from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.surrogate import HistorySurrogate
+from presag_opt.robust.tolerance import check_within
 from presag_opt.system.quantity import quantity, validate_fields
 
 
@@ -333,8 +334,7 @@ def dynamic_tolerance(
     """
     objective = objective or DynamicObjective()
     search = search or SearchSettings()
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)
     started, runs = wallclock.perf_counter(), evaluator.runs_used
     span = evaluator.reference_span
     low, high, tol = search.presag_low / span, search.presag_high / span, search.presag_tolerance / span

@@ -28,7 +28,6 @@ from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
-from presag_opt.errors import ModelError
 from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
 from presag_opt.robust.dynamic_design import (
     DynamicObjective,
@@ -42,6 +41,7 @@ from presag_opt.robust.dynamic_design import (
 from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.study import RobustStudy, robust_study
+from presag_opt.robust.tolerance import check_within
 from presag_opt.system.catenary import Catenary
 
 DELTA_E, QUASI_STATIC, DYNAMIC = DELTA_E_RULE, QUASI_STATIC_ROBUST, DYNAMIC_ROBUST
@@ -296,8 +296,7 @@ def dynamic_robust_study(
     grid = OperatingGrid.from_band(band, static_points=static_points, speed_points=speed_points)
     evaluator = BandEvaluator(catenary, pantograph, grid, settings=settings, workers=workers, progress=progress)
     context = speed_context(catenary.contact_wire, band.speed_low, band.speed_high)
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)
     started = wallclock.perf_counter()
     if quasi is None:
         quasi = robust_study(catenary, grid.mean_force_band, within=within, progress=progress)

@@ -41,6 +41,7 @@ from presag_opt.robust.dynamic_design import (
     dynamic_tolerance,
 )
 from presag_opt.robust.operating_grid import OperatingGrid
+from presag_opt.robust.tolerance import check_within
 from presag_opt.system.catenary import Catenary
 
 
@@ -428,8 +429,7 @@ def fleet_robust_study(
     """
     from presag_opt.robust.study import robust_study
 
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)
     shares = [1.0 / len(pantographs)] * len(pantographs) if shares is None else list(shares)
     grid = OperatingGrid.from_band(band, static_points=static_points, speed_points=speed_points)
     evaluator = FleetEvaluator(catenary, pantographs, shares, grid, spacing=spacing,

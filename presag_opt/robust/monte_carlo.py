@@ -37,6 +37,7 @@ from presag_opt.robust.installation import (
 from presag_opt.robust.path import PathModel
 from presag_opt.robust.realisation import InstallationResponse, installation_response
 from presag_opt.robust.scenarios import ForceScenarios
+from presag_opt.robust.tolerance import check_within
 
 PERCENTILES = (50, 90, 95, 99)
 """Percentiles every Monte Carlo result reports. [%]"""
@@ -296,8 +297,7 @@ def largest_dropper_tolerance(
     resolution : float
         Bisection stops when the bracket is this narrow. [m]
     """
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)
     if level not in PERCENTILES:
         raise ModelError(f"level = {level} % is not one of {', '.join(map(str, PERCENTILES))} %")
     draws = monte_carlo.draws(samples, errors.distribution, seed)

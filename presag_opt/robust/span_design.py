@@ -36,7 +36,7 @@ from presag_opt.errors import ModelError
 from presag_opt.robust.lp import robust_presag
 from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios
-from presag_opt.robust.tolerance import tolerance_band
+from presag_opt.robust.tolerance import check_within, tolerance_band
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
@@ -112,8 +112,7 @@ class RobustSpanRule:
     relinearise: bool = True
 
     def __post_init__(self) -> None:
-        if not 0.0 < self.within <= 2.0:
-            raise ModelError(f"within = {self.within * 100:g} % is outside the valid range (0, 200] %")
+        check_within(self.within)
 
     def __call__(self, state: EquilibriumState, elasticity: SectionElasticity, sized: Sequence[int],
                  band: OperatingBand, settings: StaticSettings | None = None) -> SpanPresags:

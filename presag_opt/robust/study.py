@@ -22,7 +22,7 @@ from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.lp import RobustDesign, evaluate_design, robust_presag
 from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios, Risk
-from presag_opt.robust.tolerance import ToleranceBand, tolerance_band
+from presag_opt.robust.tolerance import ToleranceBand, check_within, tolerance_band
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 
@@ -158,8 +158,7 @@ def robust_study(
     started = time.perf_counter()
     low, high = fm_band
     scenarios = scenarios or ForceScenarios.band(low, high)
-    if not 0.0 < within <= 2.0:  # before the form-finding, not after it
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)  # before the form-finding, not after it
     risk = risk or Risk()
     levels = force_levels_for_band(min(low, scenarios.forces.min()), max(high, scenarios.forces.max()))
 

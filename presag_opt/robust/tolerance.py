@@ -42,6 +42,24 @@ class ToleranceBand:
     forces: np.ndarray
 
 
+def check_within(within: float) -> float:
+    """The allowed loss of a tolerance interval, checked (one line naming it, in %, with its range).
+
+    Parameters
+    ----------
+    within : float
+        Allowed relative loss over the optimum, e.g. 0.10 for 10 %. [-]
+
+    Raises
+    ------
+    ModelError
+        Outside (0, 2], i.e. (0, 200] %.
+    """
+    if not 0.0 < within <= 2.0:
+        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    return within
+
+
 def tolerance_band(
     path: PathModel, scenarios: ForceScenarios, within: float = 0.10
 ) -> ToleranceBand:
@@ -62,8 +80,7 @@ def tolerance_band(
     """
     import cvxpy as cp  # on first use: importing it takes about a second
 
-    if not 0.0 < within <= 2.0:
-        raise ModelError(f"within = {within * 100:g} % is outside the valid range (0, 200] %")
+    check_within(within)
     best = robust_presag(path, scenarios, shape="parabola", risk=Risk())
     key = ("tolerance", len(scenarios.forces))
     if key not in path._problems:

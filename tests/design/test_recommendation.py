@@ -25,7 +25,10 @@ def test_recommend_combines_the_layouts(short_recommendation):
         assert lay.presag_rel_range[1] == pytest.approx(lay.at_band_high.presag_rel_mean, rel=1e-12)
         assert lay.steady_arm_uplift.mean_force == high
         assert lay.steady_arm_uplift.uplift == pytest.approx(high * lay.at_band_high.support_elasticity.max(), rel=1e-14)
-    assert rec.beta_max == pytest.approx(0.26, abs=0.01) and rec.quasi_static_valid
+    assert rec.beta_max == pytest.approx(0.26, abs=0.01)
+    delta_e = rec.evidence()
+    assert delta_e.presag_rel == rec.presag_rel and delta_e.presag_rel_range == rec.presag_rel_range
+    assert delta_e.static_uplift == max(lay.steady_arm_uplift.uplift for lay in rec.layouts)
 
 
 def test_recomputing_at_the_recommended_geometry_shifts_little(short_recommendation):

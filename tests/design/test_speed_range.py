@@ -13,16 +13,19 @@ def test_beta_at_90_kmh_on_st98_is_026():
     speed = speed_context(load_catenary("st_9.8_ideal").contact_wire, 0.0, 90 * KMH)
     assert speed.beta_max == pytest.approx(0.26, abs=0.01)  # the paper's value, printed to 0.01
     assert speed.doppler_factor_min == pytest.approx((1 - speed.beta_max) / (1 + speed.beta_max), rel=1e-12)
-    assert speed.quasi_static_valid and not speed.warnings
+    assert speed.validity.verdict == "holds"
 
 
-def test_speed_band_crossing_the_limit_warns():
+def test_the_speed_context_states_the_one_validity_statement():
+    """No warning of its own: the band's validity is the statement every command prints
+    (presag_opt.design.validity_limit), here against the paper's limit 0.35–0.40."""
     wire = load_catenary("st_9.8_ideal").contact_wire
     crossing = speed_context(wire, 50 * KMH, 160 * KMH)
-    assert not crossing.quasi_static_valid
-    assert "crosses β = 0.4 at 138 km/h" in crossing.warnings[0]
-    above = speed_context(wire, 150 * KMH, 200 * KMH)
-    assert "lies above β = 0.4" in above.warnings[0]
+    assert crossing.validity.verdict == "beyond" and crossing.validity.beta_max == pytest.approx(crossing.beta_max)
+    assert "121–138 km/h" in crossing.validity.sentence()
+    at = speed_context(wire, 0.0, 130 * KMH)
+    assert at.validity.verdict == "at the limit"
+    assert speed_context(wire, 0.0, 90 * KMH).to_dict()["validity"]["verdict"] == "holds"
 
 
 def test_speed_at_the_wave_speed_is_an_error():

@@ -1,45 +1,58 @@
-"""Line report tables (presag_opt.report.line_report): units and rounding of the rows, and the tolerance
-columns that only the robust rule adds."""
+"""Line report tables (presag_opt.report.line_report): units and rounding of the rows, each sized span's own
+tolerance with the built pre-sag's margins and flag, and a termination mast without a steady-arm figure."""
 
 from __future__ import annotations
 
 from types import SimpleNamespace
 
+from presag_opt.design.line_results import SpanDesign
+from presag_opt.pipeline.line import SPAN_FLAGS, span_flag
 from presag_opt.report.line_report import (
     DROPPER_COLUMNS,
     SPAN_COLUMNS,
     STITCH_COLUMNS,
-    TOLERANCE_COLUMNS,
     dropper_columns,
     dropper_rows,
-    span_columns,
     span_rows,
 )
 
-
-def span(tolerance=None):
-    return SimpleNamespace(section="A", span=2, from_mast="M2", to_mast="M3", length=50.0, presag=0.04612345,
-                           e_mid=0.4e-3, e_mast=0.36e-3, delta_e=0.123456e-3, steady_arm_force=-645.04,
-                           static_uplift=0.05333, tolerance=tolerance)
+CREW = 2.5e-3
 
 
-def design(rule, spans):
-    return SimpleNamespace(options=SimpleNamespace(rule=rule), spans=spans)
+def span(tolerance=None, span=2, presag=0.04612345, note=""):
+    termination = span == 1
+    return SpanDesign(section="A", span=span, from_mast=f"M{span}", to_mast=f"M{span + 1}", chainage=50.0 * (span - 1),
+                      length=50.0, presag=presag, e_mid=0.4e-3, e_mast=0.36e-3, delta_e=0.123456e-3,
+                      steady_arm_force=None if termination else -645.04, static_uplift=None if termination else 0.05333,
+                      sized=tolerance is not None, tolerance=tolerance,
+                      robust_presag=None if tolerance is None else sum(tolerance) / 2, note=note)
+
+
+def answer(spans):
+    """A LineAnswer stand-in with what the rows read: the spans and the crew tolerance's flag."""
+    return SimpleNamespace(design=SimpleNamespace(spans=spans), flag=lambda s: span_flag(s, CREW))
 
 
 def test_span_rows_are_in_table_units():
-    (row,) = span_rows(design("proportional", [span()]))
-    assert tuple(row) == SPAN_COLUMNS == span_columns(design("proportional", []))
+    (row,) = span_rows(answer([span((0.04101, 0.04999))]))
+    assert tuple(row) == SPAN_COLUMNS
     assert row["presag_mm"] == 46.1 and row["presag_rel_permille"] == 0.9225  # 46.12345 mm / 50 m
     assert row["delta_e_mm_per_N"] == 0.1235 and row["steady_arm_pull_N"] == -645.0
     assert row["static_uplift_mm"] == 53.3
+    assert (row["presag_tolerance_low_mm"], row["presag_tolerance_high_mm"]) == (41.0, 50.0)
+    assert (row["margin_low_mm"], row["margin_high_mm"]) == (5.1, 3.9)  # 46.1 mm inside 41.0–50.0 mm
+    assert row["flag"] == "" and row["robust_presag_mm"] == 45.5
 
 
-def test_the_robust_rule_adds_each_spans_tolerance_and_leaves_it_empty_for_an_end_span():
-    rows = span_rows(design("robust", [span((0.04101, 0.04999)), span(None)]))
-    assert span_columns(design("robust", [])) == SPAN_COLUMNS + TOLERANCE_COLUMNS
-    assert (rows[0]["presag_tolerance_low_mm"], rows[0]["presag_tolerance_high_mm"]) == (41.0, 50.0)
-    assert rows[1]["presag_tolerance_low_mm"] == "" == rows[1]["presag_tolerance_high_mm"]
+def test_each_flag_and_the_end_span_s_note():
+    near, outside = span((0.0440, 0.0480)), span((0.0300, 0.0400))
+    end = span(None, span=1, note="end span, not sized")
+    rows = span_rows(answer([near, outside, end]))
+    assert [r["flag"] for r in rows] == [SPAN_FLAGS[1], SPAN_FLAGS[2], SPAN_FLAGS[0]]
+    assert rows[1]["margin_high_mm"] == -6.1  # 6.1 mm above the high end
+    # the first span's from_mast is the termination: no steady arm, so no pull and no uplift figure
+    assert rows[2]["steady_arm_pull_N"] == "" == rows[2]["static_uplift_mm"] == rows[2]["margin_low_mm"]
+    assert rows[2]["note"] == "end span, not sized"
 
 
 def test_dropper_rows_round_to_a_tenth_of_a_millimetre():

@@ -1,48 +1,52 @@
-"""Which method the dynamic study recommends, from the simulated comparison (no simulation here)."""
+"""The dynamic robust study as evidence of the decision (presag_opt.robust.dynamic_study): its record, what
+it simulated, and the band it simulates (no simulation here: the study's parts are stand-ins)."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
+import numpy as np
 import pytest
 
+from presag_opt.design import CASE_STUDY_BAND
+from presag_opt.design.band import KMH
 from presag_opt.robust.dynamic_design import DynamicTolerance
-from presag_opt.robust.dynamic_study import DELTA_E, DYNAMIC, QUASI_STATIC, MethodResult, _recommend
+from presag_opt.robust.dynamic_study import DynamicRobustStudy, simulated_band
 
 SPAN = 60.0
-TOLERANCE = DynamicTolerance(low=0.040 / SPAN, high=0.058 / SPAN, within=0.10, worst_case_min=0.0925, runs_used=0,
-                             wall_time=0.0)
 
 
-def methods(quasi_mm, quasi_worst, quasi_uplift=0.050, inside=True):
-    def row(name, presag_mm, worst, uplift, within):
-        return MethodResult(method=name, presag_rel=presag_mm * 1e-3 / SPAN, objective=worst, worst_case=worst,
-                            mean=0.07, uplift_max=uplift, cost=7.0, within_tolerance=within)
-
-    return [row(DELTA_E, 61.4, 0.1154, 0.0498, False), row(QUASI_STATIC, quasi_mm, quasi_worst, quasi_uplift, inside),
-            row(DYNAMIC, 45.1, 0.0925, 0.0529, True)]
-
-
-def test_the_quasi_static_design_is_enough_inside_the_tolerance():
-    method, reason = _recommend(methods(55.8, 0.1008), TOLERANCE, 0.26, 7.0, 0.0835, SPAN)
-    assert method == QUASI_STATIC
-    assert "lies inside the dynamic tolerance interval; its worst case is +9.0 % from the dynamic design's" in reason
-    assert "β ≤ 0.26, inside the quasi-static validity limit 0.4" in reason
-
-
-def test_outside_the_tolerance_the_dynamic_design_is_recommended():
-    method, reason = _recommend(methods(61.4, 0.1154, inside=False), TOLERANCE, 0.45, 7.0, 0.0835, SPAN)
-    assert method == DYNAMIC
-    assert "lies outside the dynamic tolerance interval 40.0–58.0 mm; its worst case is +24.8 %" in reason
-    assert "β up to 0.45, above the quasi-static validity limit 0.4" in reason
+def study() -> DynamicRobustStudy:
+    """The case study's numbers (presag robust --dynamic): dynamic robust 45.1 mm, tolerance 28.0–56.1 mm,
+    its uplift 52.9 mm; five simulated pre-sags."""
+    grid = SimpleNamespace(static_forces=(70.0, 93.3, 116.7, 140.0), speeds=(50 * KMH, 70 * KMH, 90 * KMH))
+    simulated = tuple(SimpleNamespace(presag_rel=mm * 1e-3 / SPAN, uplift_max=np.array([0.05, up * 1e-3]))
+                      for mm, up in ((28.0, 51.0), (45.1, 52.9), (55.8, 53.4), (56.1, 53.5), (61.0, 54.0)))
+    return DynamicRobustStudy(
+        catenary_name="ST 9,8/9,8, ideal 60 m spans", pantograph_name="case study", band=CASE_STUDY_BAND,
+        beta=(0.145, 0.261), design=SimpleNamespace(presag_rel=45.1e-3 / SPAN, uplift_max=0.0529, grid=grid),
+        tolerance=DynamicTolerance(low=28.0e-3 / SPAN, high=56.1e-3 / SPAN, within=0.10, worst_case_min=0.0925,
+                                   runs_used=0, wall_time=0.0),
+        curve=(np.zeros(1), np.zeros(1), np.zeros(1)), simulated=simulated, runs_used=60, wall_time=40.0,
+        methods=(), uplift_limit=0.0835)
 
 
-def test_a_quasi_static_design_above_the_uplift_limit_is_not_recommended():
-    method, reason = _recommend(methods(65.9, 0.0900, quasi_uplift=0.0865, inside=False), TOLERANCE, 0.50, 5.0,
-                                0.0835, SPAN)
-    assert method == DYNAMIC
-    assert "lifts the steady arms by 86.5 mm, above the 83.5 mm limit" in reason
+def test_the_study_s_record_is_its_design_tolerance_and_every_simulated_uplift():
+    record = study().evidence()
+    assert record.presag_rel * SPAN * 1e3 == pytest.approx(45.1, rel=1e-12)
+    assert [t * SPAN * 1e3 for t in record.tolerance] == pytest.approx([28.0, 56.1], rel=1e-12)
+    assert (record.within, record.uplift) == (0.10, 0.0529)
+    assert [s * SPAN * 1e3 for s, _ in record.simulated] == pytest.approx([28.0, 45.1, 55.8, 56.1, 61.0], rel=1e-12)
+    assert record.uplift_at(50.0e-3 / SPAN) == pytest.approx(0.0534, rel=1e-12)  # between 45.1 and 55.8 mm: the larger
+    assert "4 static forces 70–140 N × 3 speeds 50–90 km/h" in record.where
 
 
-@pytest.mark.parametrize("beta", [0.2, 0.6])
-def test_the_speed_ratio_alone_does_not_decide(beta):
-    assert _recommend(methods(55.8, 0.1008), TOLERANCE, beta, 7.0, 0.0835, SPAN)[0] == QUASI_STATIC
-    assert _recommend(methods(61.4, 0.1154, inside=False), TOLERANCE, beta, 7.0, 0.0835, SPAN)[0] == DYNAMIC
+def test_the_simulated_band_starts_at_50_kmh():
+    band = simulated_band(CASE_STUDY_BAND)
+    assert band.speed_low == pytest.approx(50 * KMH, rel=1e-12) and band.speed_high == CASE_STUDY_BAND.speed_high
+    slow = simulated_band(CASE_STUDY_BAND.__class__(static_force_low=70.0, static_force_high=140.0, speed_low=0.0,
+                                                    speed_high=40 * KMH, aero_coefficient=0.0))
+    assert slow.speed_low == pytest.approx(20 * KMH, rel=1e-12)
+    assert np.isclose(simulated_band(CASE_STUDY_BAND.__class__(
+        static_force_low=70.0, static_force_high=140.0, speed_low=60 * KMH, speed_high=90 * KMH,
+        aero_coefficient=0.0)).speed_low, 60 * KMH)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from presag_opt.robust import Risk, evaluate_design
 from presag_opt.robust.installation import InstallationErrors
@@ -57,3 +58,33 @@ def test_monte_carlo_is_reproducible_with_a_seed(monte_carlo):
     b = fresh.run(dataclasses.replace(errors), samples=300, seed=21)
     assert np.array_equal(a.worst_case, b.worst_case)
     assert not np.array_equal(a.worst_case, monte_carlo.run(errors, samples=300, seed=22).worst_case)
+
+
+def test_the_crew_tolerance_of_the_mid_span_pre_sag_matches_re_solved_installed_lines(monte_carlo):
+    """presag_errors is linear in the errors (common random numbers: twice the error, twice δS) and matches
+    the re-solved installed line of each realisation: δS read off installed_state's node heights, to 2 % of
+    the largest δS (the linearisation is good to about 1 % of the heights, docs/robust.md)."""
+    from presag_opt.robust.monte_carlo import installation_tolerance, presag_errors
+    from presag_opt.robust.realisation import installed_state
+
+    errors = InstallationErrors(dropper_length=5e-3)
+    draws = monte_carlo.draws(4, "normal", 17)
+    linear = presag_errors(monte_carlo, errors, draws)
+    assert np.allclose(presag_errors(monte_carlo, InstallationErrors(dropper_length=10e-3), draws), 2 * linear,
+                       rtol=1e-12, atol=1e-15)
+    path = monte_carlo.path
+    sample = draws.scaled(errors)
+    for i in range(2):
+        built = installed_state(path.state, sample, i)
+        move = built.positions[path.nodes, 2] - path.state.positions[path.nodes, 2]
+        for k, span in enumerate(path.spans):
+            points = np.flatnonzero(path.node_span == span)
+            x = path.node_position[points]
+            ends, middle = points[[np.argmin(x), np.argmax(x)]], points[np.argmin(np.abs(x - 0.5 * x.max()))]
+            resolved = 0.5 * (move[ends[0]] + move[ends[1]]) - move[middle]
+            assert resolved == pytest.approx(linear[i, k], abs=0.02 * np.abs(linear).max())
+    tolerance = installation_tolerance(monte_carlo, errors, samples=2000, seed=5)
+    assert tolerance.kind == "monte-carlo" and "P95" in tolerance.source and "dropper 5 mm" in tolerance.source
+    worst = np.abs(presag_errors(monte_carlo, errors, monte_carlo.draws(2000, "normal", 5))).max(axis=1)
+    assert tolerance.half_width == pytest.approx(np.percentile(worst, 95), rel=1e-12)
+    assert installation_tolerance(monte_carlo, InstallationErrors(), samples=100).half_width == 0.0
