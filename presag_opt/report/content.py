@@ -186,7 +186,7 @@ def _assumptions(band: OperatingBand, within: float, sweep: str | None, quick: b
                    why=crew.source),
         Assumption(name="force scenarios of the robust design", value="17 equally likely F_m over the band",
                    why="the band is sampled evenly; the minimax design depends only on its ends in practice"),
-        Assumption(name="static numerics", value=f"{answer.robust.path.state.settings.element_length:g} m elements, "
+        Assumption(name="static numerics", value=f"{answer.robust.path.state.discretisation.settings.element_length:g} m elements, "
                    f"{STATIC_NUMERICS['step']:g} m between elasticity points",
                    why="the paper's 0.5 m; the same numerics as every command that decides for a band"),
         Assumption(name="validity criterion", value="β where the Δe rule leaves the band of S within 5 % of the "
