@@ -84,9 +84,9 @@ def report_command(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"index_html": str(path), "decision": decision_json(decision, REPORT_OPTIONS),
                     "validity_source": None if answer.validity is None else answer.validity.source,
-                    "quick": result.quick, "system": stitch_summary(load_catenary(answer.models[0]))})
+                    "quick": result.quick, "system": stitch_summary(load_catenary(models[0]))})
         return 0
-    print(f"System: {answer.models[0]}, {stitch_summary(load_catenary(answer.models[0]))}")
+    print(f"System: {models[0]}, {stitch_summary(load_catenary(models[0]))}")
     print_decision(decision.lines(REPORT_OPTIONS))
     print(f"Validity sweep: {answer.validity.source}" if answer.validity is not None else "")
     print(f"Report written to {path}")

@@ -242,6 +242,8 @@ class Decision:
         out.append("  margins: " + ("; ".join(margins) if margins else "no tolerance interval known")
                    + f"; crew tolerance {crew.describe()}")
         out.append(f"  {self.validity.sentence()}")
+        if self.validity.note:
+            out.append(f"  validity sweep not in force: {self.validity.note}")
         limit = self.evidence.uplift_limit * 1e3
         if self.uplift is not None:
             out.append(f"  steady-arm uplift: {self.uplift * 1e3:.1f} mm ({self.uplift_kind}; limit {limit:g} mm)")
@@ -382,10 +384,14 @@ def decide(evidence: Evidence) -> Decision:
     margins = np.array([margin_at(g) if k else -np.inf for g, k in zip(grid, keeps)])
     best = float(grid[np.lexsort((np.abs(grid - preferred.presag_rel), -np.round(margins, 12)))[0]])
     best_margin = float(margin_at(best))
-    place = ("lies outside them" if min(preferred.presag_rel - low, high - preferred.presag_rel) < 0
-             else "has its steady-arm uplift over the limit there" if not _keeps(evidence, preferred.presag_rel)
-             else f"lies {_mm(evidence, margin)} mm from an end of them or of the pre-sags that keep the uplift limit")
-    moved = f"{why}; {preferred.method} ({_mm(evidence, preferred.presag_rel)} mm) {place}: the {names}"
+    uplift_edge = " or of the pre-sags that keep the uplift limit" if (~keeps).any() else ""
+    if min(preferred.presag_rel - low, high - preferred.presag_rel) < 0:
+        place = "lies outside the intersection of"
+    elif not _keeps(evidence, preferred.presag_rel):
+        place = "has its steady-arm uplift over the limit inside"
+    else:
+        place = f"lies {_mm(evidence, margin)} mm from the nearest end{uplift_edge} of"
+    moved = f"{why}; {preferred.method} ({_mm(evidence, preferred.presag_rel)} mm) {place} the {names}"
     if best_margin < crew - 1e-12:
         return result(best, LARGEST_MARGIN, "tolerance-bound",
                       f"{moved}; the pre-sags inside them that keep the uplift limit leave at most "

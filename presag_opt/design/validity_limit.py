@@ -217,7 +217,8 @@ class ValidityStatement:
         return (self.limit.low * self.wave_speed, self.limit.high * self.wave_speed)
 
     def sentence(self) -> str:
-        """The validity statement in one sentence (speeds in km/h)."""
+        """The validity statement in one sentence (speeds in km/h); the same for the same band and limit,
+        whatever else a command computed (a sweep read but not in force is :attr:`note`)."""
         lo, hi = (v / KMH for v in self.limit_speeds)
         where = (f"β = {self.limit.low:.2f}–{self.limit.high:.2f}, {lo:.0f}–{hi:.0f} km/h"
                  if self.limit.high > self.limit.low else f"β = {self.limit.low:.2f}, {lo:.0f} km/h")
@@ -228,9 +229,8 @@ class ValidityStatement:
                              else "at the limit, where the paper's σ/F_m minimum already weakens"),
             "beyond": "beyond the limit: the quasi-static rule does not hold there",
         }[self.verdict]
-        text = (f"Validity: limit {where} on this contact wire (c_CW = {self.wave_speed / KMH:.0f} km/h; "
+        return (f"Validity: limit {where} on this contact wire (c_CW = {self.wave_speed / KMH:.0f} km/h; "
                 f"{self.limit.source}); {band}: {verdict}")
-        return text + (f". Not in force: {self.note}" if self.note else "")
 
     def to_dict(self) -> dict:
         """JSON-ready content (β, km/h)."""
