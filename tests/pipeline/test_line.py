@@ -101,3 +101,23 @@ def test_the_dynamic_check_simulates_the_worst_section_at_the_pre_sags_the_decis
         assert answered.decision.uplift_kind == "dynamic"
         assert answered.decision.uplift <= uplift + 0.01 * max(designs.values()) * 1e3
 
+
+
+def test_the_curve_and_the_bridge_spans_of_a_survey_are_flagged():
+    """Eight 60 m spans: a 900 m curve over spans 3–4, the wire lowered to 5.0 m at M7 (a bridge). One S_rel
+    (the default rule) cannot sit inside every span's own tolerance: the curve's spans want less pre-sag
+    (their steady arms pull the wire sideways and stiffen the supports), the bridge's spans more (the
+    height change puts a kink into the support line); each is flagged and counted in the headline."""
+    from presag_opt.system.survey import Survey, SurveyMast
+
+    masts = tuple(SurveyMast(mast=f"M{i + 1}", chainage=60.0 * i,
+                             stagger=-0.2 if i in (2, 3, 4) else (0.3 if i % 2 == 0 else -0.3),
+                             contact_wire_height=5.0 if i == 6 else 5.5, system_height=1.2,
+                             curve_radius=900.0 if i in (2, 3) else 0.0, steady_arm="pull-off") for i in range(9))
+    answered = answer_line(Survey(masts=masts), load_catenary("st_9.8_mixed"), CASE_STUDY_BAND,
+                           options=LineOptions(workers=1))
+    flags = {s.span: answered.flag(s) for s in answered.design.spans}
+    assert [flags[s] for s in (3, 4, 5, 6)] == [SPAN_FLAGS[2]] * 4
+    curve, straight, bridge = (answered.design.spans[i - 1].tolerance for i in (3, 2, 6))
+    assert curve[1] < straight[1] < bridge[1]
+    assert "4 of 6 sized spans outside their own tolerance" in answered.headline()
