@@ -11,9 +11,10 @@ inline). An edit of any of them makes numba recompile the function on its next u
 stale entry; the cache stays where numba keeps it (``__pycache__`` beside the source, or
 ``NUMBA_CACHE_DIR``).
 
-The locator joins numba's list of cache locators (``numba.core.caching.CacheImpl._locator_classes``,
-the hook numba's own locators use) and takes only the functions compiled by :func:`kernel_function`;
-every other numba function keeps numba's locators.
+Only the functions compiled by :func:`kernel_function` use the locator: each gets a cache of its own
+class (:class:`KernelCache`, numba's function cache with :class:`DependencyLocator` as its one locator)
+when it is defined; numba's own list of locators and every other numba function are left as they are,
+and importing this module changes nothing in numba.
 """
 
 from __future__ import annotations
@@ -27,9 +28,6 @@ from collections.abc import Callable
 from numba import njit
 from numba.core import caching
 from numba.core.dispatcher import Dispatcher
-
-_KERNEL_FUNCTIONS: set = set()
-"""The Python functions compiled by :func:`kernel_function` (the ones the locator takes)."""
 
 
 def dependency_files(function: Callable) -> tuple[str, ...]:
@@ -93,27 +91,33 @@ class DependencyLocator(caching._CacheLocator):
 
     @classmethod
     def from_function(cls, py_func: Callable, py_file: str) -> DependencyLocator | None:
-        """A locator for ``py_func`` (defined in ``py_file``) when it is a kernel function, wrapping the
-        first of numba's own locators that takes it; None otherwise (numba then tries its own)."""
-        if py_func not in _KERNEL_FUNCTIONS:
-            return None
+        """A locator for ``py_func`` (defined in ``py_file``), wrapping the first of numba's own
+        locators that takes it; None if none does."""
         for locator in caching.CacheImpl._locator_classes:
-            if locator is not cls:
-                inner = locator.from_function(py_func, py_file)
-                if inner is not None:
-                    return cls(inner, py_func)
+            inner = locator.from_function(py_func, py_file)
+            if inner is not None:
+                return cls(inner, py_func)
         return None
 
 
-if DependencyLocator not in caching.CacheImpl._locator_classes:
-    caching.CacheImpl._locator_classes.insert(0, DependencyLocator)
+class _KernelCacheImpl(caching.CompileResultCacheImpl):
+    """numba's cache of compiled functions, found by :class:`DependencyLocator` alone."""
+
+    _locator_classes = [DependencyLocator]
+
+
+class KernelCache(caching.FunctionCache):
+    """The on-disk cache of one kernel function: numba's function cache, keyed by :func:`source_stamp`."""
+
+    _impl_class = _KernelCacheImpl
 
 
 def kernel_function(function: Callable) -> Dispatcher:
     """``numba.njit(cache=True)`` with the cache keyed by every source file the function depends on
     (see the module notes). Define the function after the imports of what it calls."""
-    _KERNEL_FUNCTIONS.add(function)
-    return njit(cache=True)(function)
+    dispatcher = njit(function)
+    dispatcher._cache = KernelCache(function)  # what ``cache=True`` sets up, with this cache class
+    return dispatcher
 
 
 def inline(function: Callable) -> Dispatcher:
