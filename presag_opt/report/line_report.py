@@ -15,6 +15,7 @@ from presag_opt.design.band import KMH
 from presag_opt.design.line import LineDesign
 from presag_opt.errors import ModelError
 from presag_opt.report.html import CSS, _e, _table, decision_html
+from presag_opt.style import new_figure, save_figure, styled
 
 DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
                    "contact_wire_height_mm", "presag_mm")
@@ -189,6 +190,7 @@ def line_page(design: LineDesign, dynamic_check: str | None = None) -> str:
     return "\n".join(parts)
 
 
+@styled
 def plot_along_line(design: LineDesign, path: str | Path) -> Path:
     """Save e_mid, e at the masts and Δe (top) and the pre-sag built (bottom) against chainage.
 
@@ -199,8 +201,6 @@ def plot_along_line(design: LineDesign, path: str | Path) -> Path:
     path : str or Path
         Output file; the suffix sets the format.
     """
-    from presag_opt.style import new_figure, save_figure
-
     spans = design.spans
     mid = [s.chainage + 0.5 * s.length for s in spans]
     fig, (top, bottom) = new_figure(2, 1, width=9.0, height=5.5, sharex=True)
