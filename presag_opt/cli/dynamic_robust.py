@@ -42,10 +42,10 @@ def dynamic_robust(args: argparse.Namespace, decision, catenary, band, where: st
     """
     import sys
 
-    from presag_opt.contact_force import KMH
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.report.line_dynamic import CHECK_PANTOGRAPH
     from presag_opt.robust.dynamic_decision import dynamic_cost, dynamic_robust_decision, simulated_band
+    from presag_opt.units import KMH
 
     pantograph = load_pantograph(CHECK_PANTOGRAPH)
     simulated = simulated_band(band)

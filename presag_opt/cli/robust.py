@@ -19,11 +19,11 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.stitch import stitch_summary
+from presag_opt.units import KMH
 
 DEFAULT_MODEL = "st_9.8_ideal"
 CASE_STUDY_FM_BAND = "70:148"
