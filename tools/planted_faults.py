@@ -130,8 +130,10 @@ def _first_failure(output: str) -> str:
     return output.strip().splitlines()[-1] if output.strip() else ""
 
 
-def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: Path, timeout: float) -> dict:
-    """Plant one fault (None: the tree as it is) in a fresh copy and run the tiers until one fails."""
+def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: Path, timeout: float,
+              deselect: list[str]) -> dict:
+    """Plant one fault (None: the tree as it is) in a fresh copy and run the tiers until one fails
+    (``deselect``: tests left out, e.g. ones that fail on the version without any fault)."""
     name = fault.name if fault else "control"
     copy = work / version / name
     if copy.exists():
@@ -157,7 +159,8 @@ def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: P
         started = time.monotonic()
         try:
             done = subprocess.run([str(venv / "bin" / "python"), "-m", "pytest", "-x", "-q", "-rfE",
-                                   "-p", "no:cacheprovider", *marker], cwd=copy, env=env, capture_output=True,
+                                   "-p", "no:cacheprovider", *marker, *(f"--deselect={d}" for d in deselect)],
+                                  cwd=copy, env=env, capture_output=True,
                                   text=True, timeout=timeout)
             status, output = done.returncode, done.stdout + done.stderr
         except subprocess.TimeoutExpired:
@@ -177,6 +180,8 @@ def main() -> None:
     parser.add_argument("--faults", help="comma-separated names of FAULTS to plant (default all)")
     parser.add_argument("--control", action="store_true", help="also run the tiers of each version without a fault")
     parser.add_argument("--timeout", type=float, default=3600.0, help="seconds per tier run (default 3600)")
+    parser.add_argument("--deselect-before", nargs="*", default=[], metavar="NODEID",
+                        help="tests to leave out of the earlier version's runs (ones that fail there without a fault)")
     parser.add_argument("--work", type=Path, default=Path("/tmp/presag-faults"))
     parser.add_argument("--json", type=Path, help="write the results here as well (after each fault)")
     args = parser.parse_args()
@@ -186,7 +191,8 @@ def main() -> None:
     for version, revision in versions:
         base, venv = prepare(version, revision, args.work)
         for fault in ([None] if args.control else []) + chosen:
-            r = run_fault(fault, version, base, venv, args.work, args.timeout)
+            deselect = args.deselect_before if version == "before" else []
+            r = run_fault(fault, version, base, venv, args.work, args.timeout, deselect)
             results.append(r)
             seconds = sum(t["seconds"] for t in r.get("tiers", {}).values())
             print(f"{version:6s} {r['fault']:24s} caught by {r['caught_by']:14s} ({seconds:5d} s)  {r['detail']}",

@@ -153,11 +153,12 @@ def test_long_work_is_announced_before_it_starts(args, tmp_path):
     assert "Traceback" not in err
 
 
-def test_an_accepted_supercritical_sweep_warns_once_even_from_its_workers(presag, folder):
+@pytest.mark.e2e  # the installed script and its two worker processes
+def test_an_accepted_supercritical_sweep_warns_once_even_from_its_workers(presag_script, folder):
     """The study's β warning is raised in the parent and again in each worker as it plans its runs:
     the user sees it once, as one line (workers show no warnings of their own)."""
-    result = presag("sweep", str(folder / "fast_grid.toml"), "--out", str(folder / "fast.nc"), "--workers", "2",
-                    "--allow-supercritical", cwd=folder)
+    result = presag_script("sweep", str(folder / "fast_grid.toml"), "--out", str(folder / "fast.nc"), "--workers",
+                           "2", "--allow-supercritical", cwd=folder)
     assert result.returncode == 0, result.stderr
     assert result.stderr.splitlines() == [
         "presag: warning: speed ratio β = 0.75 exceeds 0.7 (EN 50119): wave reflections and the Doppler effect "

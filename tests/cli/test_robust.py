@@ -93,6 +93,7 @@ def test_robust_dynamic_json_table_and_plot(presag, tmp_path):
 SHORT_MODEL = Path(__file__).parents[1] / "studies" / "models" / "st_9.8_short.toml"
 
 
+@pytest.mark.slow  # three designs simulated at 160 km/h; the check itself: tests/robust/test_dynamic_check.py
 def test_robust_per_dropper_with_a_dynamic_check(presag, tmp_path):
     """``--check-speeds``: the nominal Δe design, the parabola of the LP and the per-dropper profile
     built into the catenary, simulated at 105 N and 160 km/h (β 0.46, above the quasi-static limit),
