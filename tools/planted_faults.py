@@ -116,9 +116,8 @@ def prepare(version: str, revision: str, work: Path) -> tuple[Path, Path]:
 def _install(venv: Path, copy: Path) -> None:
     """Replace the installed package by ``copy`` (the console script then runs the planted fault)."""
     site = next((venv / "lib").glob("python3*/site-packages"))
-    for installed in [*site.glob("presag_opt"), *site.glob("presag_opt-*"), *site.glob("presag_opt.*"),
-                      *site.glob("presag_opt*.dist-info")]:
-        shutil.rmtree(installed) if installed.is_dir() else installed.unlink()
+    for installed in sorted(set(site.glob("presag_opt*")) | set(site.glob("presag_opt-*"))):
+        shutil.rmtree(installed) if installed.is_dir() else installed.unlink(missing_ok=True)
     _run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation",
           str(copy)])
 
