@@ -15,7 +15,7 @@ choices are one :class:`Runtime` object instead of switches scattered over the p
 - outside any ``with`` block, :func:`current` is :meth:`Runtime.from_environment` without the state
   cache: a script that imports the package form-finds afresh unless it asks for the cache.
 
-Entering a runtime is scoped to the ``with`` block (a :class:`contextvars.ContextVar`, so two threads
+Entering a runtime is scoped to the ``with`` block (a ``contextvars.ContextVar``, so two threads
 or two tests do not see each other's); nothing of it outlives the block.
 
 Examples

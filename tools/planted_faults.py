@@ -118,7 +118,7 @@ def _install(venv: Path, copy: Path) -> None:
     site = next((venv / "lib").glob("python3*/site-packages"))
     for installed in sorted(set(site.glob("presag_opt*")) | set(site.glob("presag_opt-*"))):
         shutil.rmtree(installed) if installed.is_dir() else installed.unlink(missing_ok=True)
-    _run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation",
+    _run([str(venv / "bin" / "python"), "-m", "pip", "install", "--quiet", "--no-deps",
           str(copy)])
 
 
