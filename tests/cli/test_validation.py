@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from presag_opt.validation import EN50318_RANGES
 
 
+@pytest.mark.slow  # the reference case simulated at 250 km/h on its ten spans
 def test_en50318_json_gives_a_verdict_per_published_statistic(presag):
     """At 250 km/h on the default discretisation F_m, the extremes, the uplift and the loss of contact
     are inside their ranges (σ, 26.2 N against 26–31 N, is the tight one; see the dynamics tests)."""
