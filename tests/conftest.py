@@ -16,6 +16,7 @@ import select
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 import warnings
 from dataclasses import dataclass
@@ -151,6 +152,49 @@ def presag_script():
         return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, check=False, **kwargs)
 
     return run
+
+
+KERNEL_WARM_UP = """
+import dataclasses
+from presag_opt.dynamics.batch import simulate_many
+from presag_opt.dynamics.case import load_case
+from presag_opt.dynamics.settings import OperatingPoint
+from presag_opt.static.form_finding import form_find
+from presag_opt.system.catenary import SpanLayout
+
+case = load_case("case_study_st98")
+settings = dataclasses.replace(case.settings, lead_in_spans=1, analysed_spans=1, numerics="fixed")
+state = form_find(case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 3, label="3 spans")), settings.static)
+point = OperatingPoint(speed=120 / 3.6, static_force=90.0, aero_coefficient=case.operation.aero_coefficient)
+simulate_many(state, case.pantograph, [point], settings=settings, keep_histories=True)
+"""
+"""A one-run batch on three spans: it compiles (or loads) the batch kernel's numba functions."""
+
+
+def pytest_sessionstart(session):
+    """In the process that hands tests to pytest-xdist workers (it runs none itself): compile the
+    batch kernel in a background process of its own while the workers start on the tests. The kernel
+    takes about a minute of one core on a fresh clone; a worker that needs it meanwhile waits on its
+    compile lock and then loads it (:func:`presag_opt.native.jit.compile_once`), instead of idling
+    while the other worker compiles it too."""
+    config = session.config
+    if hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None):
+        return
+    scratch = Path(tempfile.mkdtemp(prefix="presag-kernel-"))
+    env = {**os.environ, "XDG_CACHE_HOME": str(scratch)}
+    config._presag_kernel = (subprocess.Popen([sys.executable, "-c", KERNEL_WARM_UP], cwd=Path(__file__).parents[1],
+                                              env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                              stderr=subprocess.DEVNULL), scratch)
+
+
+def pytest_sessionfinish(session):
+    """Stop the background compilation if the tests are done first (nothing outlives the run)."""
+    started = getattr(session.config, "_presag_kernel", None)
+    if started:
+        process, scratch = started
+        process.kill()
+        process.wait()
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 @pytest.fixture(scope="session", autouse=True)
