@@ -58,7 +58,7 @@ def main() -> int:
         result = sensitivity_analysis(
             output=part["output"], inputs=part["inputs"], method="morris", samples=args.trajectories, seed=0,
             workers=args.workers, out=args.out, announce=lambda text: print(f"  {text}", flush=True),
-            progress=lambda done, total: print(f"  {done}/{total}", file=sys.stderr, flush=True))
+            progress=lambda message: print(f"  {message}", file=sys.stderr, flush=True))
         wall, cpu = time.perf_counter() - wall_before, _cpu_seconds() - cpu_before
         print(f"{name}: {len(result.inputs)} inputs, {result.evaluations} evaluations, one evaluation "
               f"{result.seconds_first:.1f} s, total {result.seconds:.0f} s; load average after {os.getloadavg()}")

@@ -185,6 +185,9 @@ html_theme_options = {
 html_context = {"default_mode": "auto"}  # without it a first visit logs "invalid theme mode" to the console
 html_sidebars = {"getting_started": [], "reference/*": [], "project/*": [], "guide/physics": []}
 html_show_sourcelink = False
+# Every page names its icon; without one a browser asks the server for /favicon.ico, a request the
+# pages never make, and a site served without that file logs a 404 on whichever page is open.
+html_favicon = "_static/favicon.svg"
 
 
 def setup(app) -> None:

@@ -12,9 +12,6 @@ Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, eq. 
 
 from __future__ import annotations
 
-KMH = 1.0 / 3.6
-"""One km/h in m/s. [m/s]"""
-
 
 def mean_contact_force(static_force, speed, aero_coefficient):
     """Mean contact force F_m = F_stat + α_ae v² (numbers or arrays; no validation here). [N]

@@ -12,9 +12,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from presag_opt.contact_force import KMH
 from presag_opt.elasticity import ElasticityStudy
-from presag_opt.style import legend_outside, new_figure, save_figure
+from presag_opt.style import legend_outside, new_figure, save_figure, styled
+from presag_opt.units import KMH
 
 if TYPE_CHECKING:
     from presag_opt.design import Recommendation
@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     from presag_opt.validation.dynamic_model import ConvergenceStudy, CrawlingCheck, MovingForceCheck
 
 
+@styled
 def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     """Elasticity along the span for every curve of a study (like the paper's Fig. 3/4).
 
@@ -48,6 +49,7 @@ def plot_elasticity(study: ElasticityStudy, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_presag_against_force(recommendation: Recommendation, path: str | Path) -> Path:
     """Quasi-static pre-sag against the mean contact force, both variants, every layout (like Fig. 5a).
 
@@ -86,6 +88,7 @@ def plot_presag_against_force(recommendation: Recommendation, path: str | Path) 
     return save_figure(fig, path)
 
 
+@styled
 def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Path) -> Path:
     """Pre-sag from interpolated curves against one curve, and the relative error (like Fig. 5b).
 
@@ -118,6 +121,7 @@ def plot_single_curve_error(studies: Sequence[SingleCurveError], path: str | Pat
     return save_figure(fig, path)
 
 
+@styled
 def plot_contact_force(results: SimulationResult | list[SimulationResult], path: str | Path) -> Path:
     """Contact force against position, raw and 20 Hz filtered, one panel per run.
 
@@ -152,6 +156,7 @@ def plot_contact_force(results: SimulationResult | list[SimulationResult], path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_batch_statistics(batch: BatchResult, path: str | Path) -> Path:
     """σ/F_m and σ against speed, one line per static force, for a batch of runs.
 
@@ -177,6 +182,7 @@ def plot_batch_statistics(batch: BatchResult, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_waviness(study: RobustStudy, path: str | Path) -> Path:
     """Worst-case and per-force waviness R against the parabolic pre-sag S over the band.
 
@@ -210,6 +216,7 @@ def plot_waviness(study: RobustStudy, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_dropper_profile(study: RobustStudy, design: RobustDesign, path: str | Path) -> Path:
     """Dropper depths of a per-dropper design beside the robust and nominal parabolas, per analysed span.
 
@@ -243,6 +250,7 @@ def plot_dropper_profile(study: RobustStudy, design: RobustDesign, path: str | P
     return save_figure(fig, path)
 
 
+@styled
 def plot_dynamic_check(check: DynamicCheck, path: str | Path) -> Path:
     """σ/F_m and the steady-arm uplift of every run of a dynamic check against β, one colour per design.
 
@@ -272,6 +280,7 @@ def plot_dynamic_check(check: DynamicCheck, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_crawling(check: CrawlingCheck, path: str | Path) -> Path:
     """Simulated contact-wire uplift at crawling speed beside contact force × static elasticity.
 
@@ -294,6 +303,7 @@ def plot_crawling(check: CrawlingCheck, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_moving_force(checks: Sequence[MovingForceCheck], path: str | Path) -> Path:
     """Mid-point deflection of a string under a moving force: integrator against the modal series.
 
@@ -317,6 +327,7 @@ def plot_moving_force(checks: Sequence[MovingForceCheck], path: str | Path) -> P
     return save_figure(fig, path)
 
 
+@styled
 def plot_convergence(study: ConvergenceStudy, path: str | Path) -> Path:
     """σ against the element length and time step of each rung, one line per speed.
 
@@ -341,6 +352,7 @@ def plot_convergence(study: ConvergenceStudy, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_curve_effects(effects: Sequence[CurveEffect], path: str | Path) -> Path:
     """Steady-arm pull, support elasticity and quasi-static S_rel against the curve radius.
 
@@ -376,6 +388,7 @@ def plot_curve_effects(effects: Sequence[CurveEffect], path: str | Path) -> Path
     return save_figure(fig, path)
 
 
+@styled
 def plot_mixed_findings(findings: Sequence[MixedFinding], path: str | Path,
                         paper: dict[str, tuple[float, float]] | None = None) -> Path:
     """S_rel range on ideal and on mixed spans for each variant of the assumptions (and the paper's).
@@ -404,6 +417,7 @@ def plot_mixed_findings(findings: Sequence[MixedFinding], path: str | Path,
     return save_figure(fig, path)
 
 
+@styled
 def plot_dynamic_objective(study, path: str | Path) -> Path:
     """Objective and worst case against the parabolic pre-sag S over the band, by simulation.
 

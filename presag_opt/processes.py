@@ -6,6 +6,12 @@ tasks in a :class:`concurrent.futures.ProcessPoolExecutor` opened by :func:`work
 site says what its work needs (a :class:`WorkerPolicy`); this module alone decides how the workers
 start (:func:`start_method`).
 
+Every worker runs in its parent's :class:`~presag_opt.runtime.Runtime` (handed over when it starts:
+pickled under spawn, inherited under fork), so it caches and compiles as the parent does. Work that
+keeps something from one task to the next (a form-found state, a memo of the states of a study)
+gives the pool a *job*: an object handed to each worker once, which the tasks then call through
+:func:`run_job`; its memos (:class:`WorkerMemo`) live as long as the worker and never in the parent.
+
 When the work ends normally the pool is closed and waited for. When it ends by an error, Ctrl-C or
 SIGTERM (the command line turns SIGTERM into the same interrupt as Ctrl-C), the queued tasks are
 dropped and the worker processes are killed at once, so that none keeps computing after its parent
@@ -17,6 +23,7 @@ has stored stays stored (see :mod:`presag_opt.studies.store`).
 
 from __future__ import annotations
 
+import contextvars
 import ctypes
 import enum
 import multiprocessing
@@ -26,10 +33,13 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Iterator
+from collections import OrderedDict
+from collections.abc import Callable, Hashable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
+from typing import Any
 
+from presag_opt import runtime
 from presag_opt.errors import ModelError
 
 PARENT_POLL = 1.0
@@ -50,8 +60,8 @@ class WorkerPolicy(enum.Enum):
         Tasks are pickled and short enough that re-importing the package in each worker would
         dominate: forked where the platform has ``fork``, else spawned.
     INHERITED
-        Tasks use state of the parent that cannot be pickled (compiled CasADi functions, held in a
-        module global before the pool opens): forked; only where :func:`pool_available` says so.
+        Tasks use state of the parent that cannot be pickled (compiled CasADi functions, in the
+        pool's job): forked; only where :func:`pool_available` says so.
     """
 
     PICKLED = "pickled"
@@ -84,8 +94,11 @@ def start_method(policy: WorkerPolicy) -> str:
 
 
 @contextmanager
-def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED) -> Iterator[ProcessPoolExecutor]:
+def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED,
+                job: Callable[..., Any] | None = None) -> Iterator[ProcessPoolExecutor]:
     """A process pool that is stopped, workers and all, if the ``with`` block does not finish.
+
+    Each worker runs in the runtime in force here (:func:`presag_opt.runtime.current`).
 
     Parameters
     ----------
@@ -93,11 +106,15 @@ def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED) -> It
         Worker processes. [-]
     policy : WorkerPolicy
         What the work needs (see :class:`WorkerPolicy`); the start method follows from it.
+    job : callable, optional
+        Handed to each worker once (pickled under spawn, inherited under fork); tasks submitted as
+        ``pool.submit(run_job, *args)`` call it with ``args`` in the worker. Whatever it keeps between
+        calls is the worker's.
     """
     if not isinstance(policy, WorkerPolicy):
         raise ModelError(f"policy = {policy!r} is not one of {', '.join(p.name for p in WorkerPolicy)}")
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method(policy)),
-                               initializer=_start_worker, initargs=(os.getpid(),))
+                               initializer=_start_worker, initargs=(os.getpid(), runtime.current(), job))
     try:
         yield pool
     except BaseException:
@@ -106,8 +123,10 @@ def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED) -> It
     pool.shutdown(wait=True)
 
 
-STOP_WAIT = 5.0
-"""Longest wait for a stopped pool's manager thread to notice its killed workers. [s]"""
+STOP_WAIT = 60.0
+"""Longest wait for a stopped pool's manager thread to notice its killed workers: it normally takes
+milliseconds; the bound only keeps a stuck thread from holding the exit forever (on a loaded machine
+a few seconds were seen, and an exit before the thread is done prints a closed-pipe traceback). [s]"""
 
 
 def stop(pool: ProcessPoolExecutor) -> None:
@@ -128,8 +147,59 @@ def stop(pool: ProcessPoolExecutor) -> None:
         manager.join(STOP_WAIT)
 
 
-def _start_worker(parent: int) -> None:
-    """Initializer of every worker: die with the parent, leave interrupts to the parent.
+_JOB: contextvars.ContextVar[Callable[..., Any]] = contextvars.ContextVar("presag_worker_job")
+"""The job of this worker's pool, set once by :func:`_start_worker` in a worker process (never in
+the process that opened the pool)."""
+
+
+def run_job(*args: Any) -> Any:
+    """Call the job of this worker's pool (:func:`worker_pool`'s ``job``) with ``args``: submit it as
+    ``pool.submit(run_job, *args)``."""
+    return _JOB.get()(*args)
+
+
+class WorkerMemo:
+    """Results a job keeps from one task to the next, the ``size`` most recently used, by key.
+
+    It belongs to the object that holds it (a pool's job, or a computation in the parent) and lives
+    as long as that object; pickled (to a spawned worker, a Dask worker) it travels empty. Safe to use
+    from several threads (a Dask worker runs tasks in threads).
+
+    Parameters
+    ----------
+    size : int
+        Entries kept. [-]
+    """
+
+    def __init__(self, size: int):
+        self.size = int(size)
+        self._entries: OrderedDict[Hashable, Any] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key: Hashable, compute: Callable[[], Any]) -> Any:
+        """The value kept for ``key``, else ``compute()`` kept under it (computed outside the lock:
+        two threads may both compute a missing value; both get an equal one)."""
+        with self._lock:
+            if key in self._entries:
+                self._entries.move_to_end(key)
+                return self._entries[key]
+        value = compute()
+        with self._lock:
+            self._entries[key] = value
+            while len(self._entries) > self.size:
+                self._entries.popitem(last=False)
+        return value
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __reduce__(self) -> tuple:
+        return WorkerMemo, (self.size,)
+
+
+def _start_worker(parent: int, settings: runtime.Runtime, job: Callable[..., Any] | None) -> None:
+    """Initializer of every worker: the parent's runtime and job, die with the parent, leave
+    interrupts to the parent.
 
     Ctrl-C reaches the whole process group; the parent stops the pool, so a worker ignores SIGINT
     (no traceback of an interrupted task) and takes SIGTERM's default action (a forked worker would
@@ -137,6 +207,9 @@ def _start_worker(parent: int) -> None:
     reach the terminal raw, once per worker, beside the parent's; the parent raises the same input
     warnings when it checks the work, and results carry their own.
     """
+    settings.activate()
+    if job is not None:
+        _JOB.set(job)
     warnings.simplefilter("ignore")
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

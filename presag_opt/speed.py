@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 import warnings
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 SPEED_RATIO_LIMIT = 0.7
 """Largest speed ratio β = v / c_CW EN 50119 allows for a design speed; :func:`speed_ratio` warns

@@ -1,25 +1,32 @@
-"""Shared fixtures: form-found states and elasticity sections are expensive (1–5 s), so each is built
-once per session; and a headless Chromium driven over the DevTools protocol on a pipe
+"""Shared fixtures: the test run's runtime (one form-finding cache for every worker, module and command
+of the run); ``presag`` (a command run in-process) and ``presag_script`` (the installed console
+script as a process); form-found states and elasticity sections, expensive (1–5 s), built once per
+session; and a headless Chromium driven over the DevTools protocol on a pipe
 (``--remote-debugging-pipe``: the standard library is all it needs), which opens the HTML report
 (tests/report/) and the documentation site (tests/docs/)."""
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
+import io
 import json
 import os
 import select
 import shutil
-import signal
 import subprocess
 import sys
+import tempfile
 import time
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
+from presag_opt.cli import main
 from presag_opt.design import recommend, section_elasticity
+from presag_opt.runtime import NO_CACHE_ENV, Runtime
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
@@ -87,20 +94,68 @@ def _run_folder(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session", autouse=True)
-def _cache_in_a_session_folder(tmp_path_factory):
-    """Commands run by the tests cache form-found states and compiled C libraries in one folder of
-    this test run, shared by every xdist worker (so a state form-found on one worker is loaded on the
-    other; both caches write a file and rename it, safe for concurrent writers), never in the user's
-    cache."""
+def test_runtime(tmp_path_factory) -> Runtime:
+    """The runtime of the whole test run: one form-finding cache and one folder of compiled libraries
+    in the run's folder, shared by every xdist worker, every module, every command a test runs
+    (in-process or as a process: ``XDG_CACHE_HOME`` points there too) and every worker process those
+    start; never the user's cache. Both caches write a file and rename it, safe for concurrent writers.
+    A test that needs another runtime enters its own (``with test_runtime.replace(...)``)."""
     folder = _run_folder(tmp_path_factory) / "cache"
     folder.mkdir(exist_ok=True)
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("XDG_CACHE_HOME", str(folder))
-        yield
+        patch.delenv(NO_CACHE_ENV, raising=False)
+        with Runtime.from_environment(state_cache=True) as runtime:
+            yield runtime
+
+
+@dataclass(frozen=True)
+class Ran:
+    """A finished ``presag`` command: its exit status and what it printed (text)."""
+
+    returncode: int
+    stdout: str
+    stderr: str
+
+
+def _presag_in_process(*args: str, cwd: Path | None = None) -> Ran:
+    """``presag ARGS`` run by :func:`presag_opt.cli.main` in this process, in ``cwd``, with standard
+    output and standard error captured."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.chdir(cwd or os.getcwd()), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(args))
+    return Ran(code, out.getvalue(), err.getvalue())
+
+
+@pytest.fixture(scope="session")
+def presag():
+    """Run a ``presag`` command in this process (``presag("recommend", "--json", cwd=tmp_path)``):
+    :func:`presag_opt.cli.main` with its output captured, in its own runtime built from its options
+    and the environment (the test run's caches), leaving nothing behind. Returns a :class:`Ran`."""
+    return _presag_in_process
+
+
+SCRIPT = Path(sys.executable).parent / "presag"
+"""The installed console script."""
+
+
+@pytest.fixture(scope="session")
+def presag_script():
+    """Run the installed ``presag`` console script as a process (``presag_script("sweep", ..., cwd=...)``;
+    keyword arguments go to :func:`subprocess.run`, with a 600 s timeout unless given): for what only a
+    real process shows (exit status at the shell, signals, a closed pipe, the process tree). Returns
+    the :class:`subprocess.CompletedProcess` (text output)."""
+    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
+
+    def run(*args: str, **kwargs) -> subprocess.CompletedProcess:
+        kwargs.setdefault("timeout", 600)
+        return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, check=False, **kwargs)
+
+    return run
 
 
 KERNEL_WARM_UP = """
-import dataclasses, os, sys
+import dataclasses
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.settings import OperatingPoint
@@ -113,120 +168,33 @@ state = form_find(case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 3,
 point = OperatingPoint(speed=120 / 3.6, static_force=90.0, aero_coefficient=case.operation.aero_coefficient)
 simulate_many(state, case.pantograph, [point], settings=settings, keep_histories=True)
 """
-"""A one-run batch on three spans: it compiles (or loads) every numba function of the batch kernel."""
-
-KERNEL_WARM_UP_DRIVER = """
-import os, subprocess, sys
-checkout, done = sys.argv[1], sys.argv[2]
-env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-status = subprocess.run([sys.executable, "-c", sys.argv[3]], env={**env, "PYTHONPATH": checkout}).returncode
-# the console script (a non-editable install in CI) may import another copy, with its own numba cache
-status |= subprocess.run([sys.executable, "-c", sys.argv[3]], env=env, cwd=os.path.dirname(done)).returncode
-with open(done + ".tmp", "w") as handle:
-    handle.write(str(status))
-os.replace(done + ".tmp", done)
-"""
-"""Warms the cache of the package the tests import and then that of the installed package (the
-second is a quick cache hit when they are the same files), then writes the done file."""
-
-KERNEL_FREE = (
-    "tests/docs/", "tests/static/", "tests/system/", "tests/native/", "tests/elasticity/", "tests/design/", "tests/test_",
-    "tests/cli/test_line.py", "tests/cli/test_static.py",
-    *(f"tests/robust/test_{name}.py" for name in ("buildability", "installation", "lp", "monte_carlo", "path",
-                                                    "realisation", "rounding", "span_design", "study", "tolerance")),
-    *(f"tests/sensitivity/test_{name}.py" for name in ("methods", "quasi_static", "reference", "screening")),
-)
-"""Test files that never run the batch kernel (checked by running them alone with an empty
-``NUMBA_CACHE_DIR``: no kernel function was cached): they run first and do not wait for its
-compilation. A file listed here that does run the kernel only compiles it itself."""
-
-_kernel_warm = False
-_needs_kernel = True
-_warm_up: subprocess.Popen | None = None
+"""A one-run batch on three spans: it compiles (or loads) the batch kernel's numba functions."""
 
 
-@pytest.fixture(scope="session", autouse=True)
-def _kernel_compiled_once_per_run(tmp_path_factory, _cache_in_a_session_folder):
-    """Compile the batch kernel's numba functions (about 50 s of one core when the in-tree cache is
-    cold, as on a fresh checkout) once per test run, in the background, started by the first worker to
-    get here; until it is done, a test that may run the kernel waits (:func:`_kernel_ready`) instead
-    of compiling it again in its own process and in every command it starts."""
-    import presag_opt
-
-    global _warm_up
-    folder = _run_folder(tmp_path_factory)
-    try:
-        handle = os.open(folder / "kernel-warm-up.pid", os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-    except FileExistsError:
-        yield
+def pytest_sessionstart(session):
+    """In the process that hands tests to pytest-xdist workers (it runs none itself): compile the
+    batch kernel in a background process of its own while the workers start on the tests. The kernel
+    takes about a minute of one core on a fresh clone; a worker that needs it meanwhile waits on its
+    compile lock and then loads it (:func:`presag_opt.native.jit.compile_once`), instead of idling
+    while the other worker compiles it too."""
+    config = session.config
+    if hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None):
         return
-    if not _needs_kernel:
-        os.close(handle)
-        (folder / "kernel-warm-up.done").write_text("not needed")
-        yield
-        return
-    with open(folder / "kernel-warm-up.log", "w") as log:
-        process = subprocess.Popen(
-            [sys.executable, "-c", KERNEL_WARM_UP_DRIVER, str(Path(presag_opt.__file__).parents[1]),
-             str(folder / "kernel-warm-up.done"), KERNEL_WARM_UP],
-            stdin=subprocess.DEVNULL, stdout=log, stderr=log, cwd=folder, start_new_session=True,
-        )
-    os.write(handle, str(process.pid).encode())
-    os.close(handle)
-    _warm_up = process
-    yield
-    if process.poll() is None:  # this worker is done first: stop it rather than leave it running
-        os.killpg(process.pid, signal.SIGTERM)
+    scratch = Path(tempfile.mkdtemp(prefix="presag-kernel-"))
+    env = {**os.environ, "XDG_CACHE_HOME": str(scratch)}
+    config._presag_kernel = (subprocess.Popen([sys.executable, "-c", KERNEL_WARM_UP], cwd=Path(__file__).parents[1],
+                                              env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                              stderr=subprocess.DEVNULL), scratch)
+
+
+def pytest_sessionfinish(session):
+    """Stop the background compilation if the tests are done first (nothing outlives the run)."""
+    started = getattr(session.config, "_presag_kernel", None)
+    if started:
+        process, scratch = started
+        process.kill()
         process.wait()
-
-
-@pytest.fixture(autouse=True)
-def _kernel_ready(request, tmp_path_factory, _kernel_compiled_once_per_run):
-    """Wait for the kernel's compilation (at most 15 min, and not after the warm-up process is gone)
-    unless the test is in :data:`KERNEL_FREE`. Only the time changes: a failed warm-up leaves each
-    test to compile the kernel itself."""
-    global _kernel_warm
-    if _kernel_warm or _test_path(request.node).startswith(KERNEL_FREE):
-        return
-    folder = _run_folder(tmp_path_factory)
-    deadline = time.monotonic() + 900
-    while not (folder / "kernel-warm-up.done").exists() and time.monotonic() < deadline:
-        if _warm_up is not None:
-            if _warm_up.poll() is not None:
-                break  # the warm-up process (this worker's child) is gone without finishing
-        else:
-            try:
-                os.kill(int((folder / "kernel-warm-up.pid").read_text() or 0) or os.getpid(), 0)
-            except (ProcessLookupError, ValueError):
-                break  # the warm-up process (another worker's child) is gone without finishing
-        time.sleep(0.5)
-    _kernel_warm = True
-
-
-def _test_path(item) -> str:
-    """A test's file relative to the repository (``tests/...``)."""
-    return Path(item.path).resolve().relative_to(Path(__file__).resolve().parents[1]).as_posix()
-
-
-SLOW_FIRST = ("tests/docs/test_site.py", "tests/notebooks/test_07_sensitivity.py",
-              "tests/dynamics/test_kernel_cache.py", "tests/cli/test_cli_refusals.py")
-"""The longest files, handed out first in their group so that none of them is left for the end of the
-run on one worker."""
-
-
-def pytest_collection_modifyitems(config, items):
-    """Kernel-free files first (they run while the kernel compiles), the longest files first within
-    each group; otherwise the collection order (a stable sort, the same on every xdist worker). xdist
-    hands the files out in this order because ``--no-loadscope-reorder`` (pyproject's addopts) keeps
-    it from sorting them by their number of tests."""
-    global _needs_kernel
-    _needs_kernel = any(not _test_path(item).startswith(KERNEL_FREE) for item in items)
-
-    def order(item):
-        path = _test_path(item)
-        return (not path.startswith(KERNEL_FREE), path not in SLOW_FIRST)
-
-    items.sort(key=order)
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -308,14 +276,18 @@ class Chromium:
                 return reply["result"]
             self.events.append(reply)
 
-    def wait_for(self, method: str) -> dict:
-        """The first event of a kind (already received or still to come)."""
+    def wait_for(self, method: str, where=lambda params: True) -> dict:
+        """The first event of a kind whose parameters satisfy ``where`` (already received or still to come)."""
         deadline = time.monotonic() + self.timeout
-        seen = [e for e in self.events if e.get("method") == method]
+
+        def wanted(event: dict) -> bool:
+            return event.get("method") == method and where(event.get("params", {}))
+
+        seen = [e for e in self.events if wanted(e)]
         while not seen:
             event = self._read(deadline)
             self.events.append(event)
-            if event.get("method") == method:
+            if wanted(event):
                 seen.append(event)
         return seen[0]
 

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH, mean_contact_force
+from presag_opt.contact_force import mean_contact_force
+from presag_opt.units import KMH
 
 
 def test_the_mean_contact_force():

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from presag_opt import plotting
-from presag_opt.contact_force import KMH
 from presag_opt.elasticity.curves import ElasticityCurve, ElasticityStudy
+from presag_opt.units import KMH
 
 
 @pytest.fixture

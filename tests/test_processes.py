@@ -62,6 +62,7 @@ def test_an_error_inside_the_pool_kills_the_busy_workers():
     assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 5), "a worker outlived its pool"
 
 
+@pytest.mark.e2e
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
 def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
     process = subprocess.Popen([str(SCRIPT), "sweep", str(SMALL_STUDY), "--out", str(tmp_path / "s.nc"),
@@ -73,7 +74,7 @@ def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
         time.sleep(1.0)
         workers = _children(process.pid)
         process.send_signal(signal.SIGTERM)
-        out, err = process.communicate(timeout=30)
+        out, err = process.communicate(timeout=300)  # seconds normally; the bound is against a hang
         assert process.returncode == 130
         assert err.strip().splitlines()[-1] == "presag: interrupted", err
         assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 10), "a worker outlived the command"
@@ -95,6 +96,7 @@ POOL_COMMANDS = {
 """Every command with a worker pool, with arguments that open one within seconds."""
 
 
+@pytest.mark.e2e
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads the process table from /proc")
 @pytest.mark.parametrize("command", list(POOL_COMMANDS))
 def test_workers_exit_within_seconds_of_a_sigkill_of_their_command(command, tmp_path):

@@ -7,9 +7,9 @@ import warnings
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.speed import SPEED_RATIO_LIMIT, check_speed_limit, doppler_factor, speed_ratio, wave_speed
+from presag_opt.units import KMH
 
 TENSION = 20e3  # N, EN 50318-style contact wire
 MASS_PER_LENGTH = 1.35  # kg/m

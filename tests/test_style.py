@@ -9,11 +9,24 @@ import pytest
 from presag_opt import style
 
 
-def test_the_style_is_set_on_import():
-    assert matplotlib.get_backend().lower() == "agg"
-    assert matplotlib.rcParams["savefig.dpi"] == 130 and matplotlib.rcParams["axes.spines.top"] is False
-    colours = [c["color"] for c in matplotlib.rcParams["axes.prop_cycle"]]
-    assert colours[:2] == ["#0072B2", "#D55E00"]  # the Okabe–Ito colour-blind-safe cycle
+def test_the_style_is_in_force_while_a_figure_is_drawn_and_only_then():
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; before = dict(matplotlib.rcParams); import presag_opt.style, presag_opt.plotting; "
+            "print(dict(matplotlib.rcParams) == before)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["True"]  # importing changes no parameter (and chooses no backend)
+    seen = {}
+
+    @style.styled
+    def draw():
+        seen.update(dpi=matplotlib.rcParams["savefig.dpi"], top=matplotlib.rcParams["axes.spines.top"],
+                    colours=[c["color"] for c in matplotlib.rcParams["axes.prop_cycle"]][:2])
+
+    draw()
+    assert seen == {"dpi": 130, "top": False, "colours": ["#0072B2", "#D55E00"]}  # the Okabe–Ito cycle
+    assert matplotlib.rcParams["savefig.dpi"] != 130  # and the caller's parameters after it
 
 
 def test_a_legend_figure_is_widened_by_the_strip_and_the_axes_stay_left_of_it(tmp_path):
@@ -36,4 +49,4 @@ def test_the_suffix_selects_the_format(tmp_path, suffix, magic):
     fig, ax = style.new_figure()
     ax.plot([0, 1], [1, 0])
     assert style.save_figure(fig, tmp_path / f"f{suffix}").read_bytes()[:len(magic)] == magic
-    assert not matplotlib.pyplot.fignum_exists(fig.number)  # closed: no figures pile up in long runs
+    assert not hasattr(fig, "number")  # never a pyplot figure: none piles up in long runs

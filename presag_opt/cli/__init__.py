@@ -53,12 +53,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``presag`` console script.
 
     SIGTERM ends a command as Ctrl-C does: its worker processes are stopped and it exits with
-    :data:`~presag_opt.cli.common.EXIT_INTERRUPTED` (see :mod:`presag_opt.processes`).
+    :data:`~presag_opt.cli.common.EXIT_INTERRUPTED` (see :mod:`presag_opt.processes`). The command
+    runs in its own :class:`~presag_opt.runtime.Runtime` and leaves nothing behind in the process (the
+    SIGTERM handler is restored when it returns), so it can be called in-process, as the tests do.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after ``presag`` (default: the process's).
+
+    Returns
+    -------
+    int
+        The exit status (0, or one of the ``EXIT_*`` codes of :mod:`presag_opt.cli.common`; 2 for bad
+        usage, from argparse).
     """
-    signal.signal(signal.SIGTERM, _terminated)
     parser = build_parser()
-    args = parser.parse_args(argv)
-    return common.run(args.handler, args)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version and bad usage: argparse has printed its message
+        return exc.code if isinstance(exc.code, int) else 2
+    previous = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        return common.run(args.handler, args)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

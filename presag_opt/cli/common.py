@@ -2,8 +2,8 @@
 
 Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMAR`):
 
-- :func:`run` runs a handler: one-line errors, Ctrl-C (exit 130), a closed pipe (exit 141), the
-  form-finding cache;
+- :func:`run` runs a handler inside the command's :class:`~presag_opt.runtime.Runtime` (built from its
+  options and the environment): one-line errors, Ctrl-C (exit 130), a closed pipe (exit 141);
 - :func:`add_run_options` adds ``--quiet``, ``--progress`` and ``--no-cache`` to a sub-command;
 - :func:`progress` gives the one progress display (tqdm on standard error) for long work;
 - :func:`band` and :func:`float_list` parse ``LOW:HIGH`` bands and ``A,B,C`` lists;
@@ -19,6 +19,7 @@ Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMA
 from __future__ import annotations
 
 import argparse
+import contextvars
 import json
 import math
 import os
@@ -34,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presag_opt.errors import ConvergenceError, ModelError, StorageError
+from presag_opt.runtime import NO_CACHE_ENV, Runtime
 
 if TYPE_CHECKING:  # casadi is imported by the commands that form-find, not by this module
     from presag_opt.static.discretisation import StaticSettings
@@ -51,8 +53,9 @@ EXIT_INTERNAL = 70
 EXIT_BROKEN_PIPE = 141
 """128 + SIGPIPE, as a shell reports a program whose reader went away (``presag … | head``)."""
 
-_SHOWN_WARNINGS: dict[str, None] = {}
-"""The warnings shown so far by the running command, in order (each once)."""
+_SHOWN_WARNINGS: contextvars.ContextVar[dict[str, None]] = contextvars.ContextVar("presag_shown_warnings")
+"""The warnings shown so far by the running command, in order (each once): a fresh record per
+:func:`run`, reset when it returns (outside a command every call of :func:`print_warnings` starts afresh)."""
 
 PROGRESS_DELAY = 2.0
 """Seconds of work before a progress display appears (shorter work shows none). [s]"""
@@ -71,7 +74,8 @@ command-line grammar:
 def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
     """Run a sub-command handler, turning expected errors into a one-line message and exit code.
 
-    Sets up the form-finding cache first (see :func:`add_run_options`). Every warning raised while
+    The handler runs inside the command's runtime (:func:`command_runtime`: the form-finding cache
+    unless ``--no-cache``, compiled code, error display). Every warning raised while
     the handler runs is printed once as ``presag: warning: …`` (see :func:`print_warnings`). A closed
     standard output (the reader of a pipe went away) ends the program quietly with
     :data:`EXIT_BROKEN_PIPE`; a file that cannot be written (:class:`OSError`) ends it with one line
@@ -85,18 +89,27 @@ def run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Name
     args : argparse.Namespace
         Parsed options of the sub-command.
     """
-    _SHOWN_WARNINGS.clear()
-    with warnings.catch_warnings():
-        warnings.simplefilter("default")
-        for category in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
-            warnings.simplefilter("ignore", category)
-        warnings.showwarning = _show_warning
-        return _run(handler, args)
-
-
-def _run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
+    shown = _SHOWN_WARNINGS.set({})
     try:
-        _configure_cache(args)
+        settings = command_runtime(args)
+        with settings, warnings.catch_warnings():
+            warnings.simplefilter("default")
+            for category in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+                warnings.simplefilter("ignore", category)
+            warnings.showwarning = _show_warning
+            return _run(handler, args, settings.debug)
+    finally:
+        _SHOWN_WARNINGS.reset(shown)
+
+
+def command_runtime(args: argparse.Namespace) -> Runtime:
+    """The runtime of a command: the environment's (:meth:`~presag_opt.runtime.Runtime.from_environment`),
+    with the form-finding cache in the user's cache folder unless ``--no-cache`` or ``PRESAG_NO_CACHE``."""
+    return Runtime.from_environment(state_cache=not getattr(args, "no_cache", False))
+
+
+def _run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace, debug: bool) -> int:
+    try:
         return handler(args) or 0
     except ModelError as exc:
         print(f"presag: error: {exc}", file=sys.stderr)
@@ -118,7 +131,7 @@ def _run(handler: Callable[[argparse.Namespace], int | None], args: argparse.Nam
         print(f"presag: error: {os_error_line(exc)}", file=sys.stderr)
         return EXIT_STORAGE
     except (Exception, MemoryError) as exc:  # noqa: BLE001 - the last line of defence: never a raw traceback
-        if os.environ.get("PRESAG_DEBUG"):
+        if debug:
             traceback.print_exc()
         where = traceback.extract_tb(exc.__traceback__)[-1] if exc.__traceback__ else None
         at = f" in {Path(where.filename).name}:{where.lineno}" if where else ""
@@ -148,14 +161,7 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--progress", action="store_true",
                        help="show the progress display at once, even when standard error is not a terminal")
     group.add_argument("--no-cache", action="store_true",
-                       help="do not read or write the form-finding cache (same as PRESAG_NO_CACHE=1)")
-
-
-def _configure_cache(args: argparse.Namespace) -> None:
-    from presag_opt.static import cache
-
-    off = getattr(args, "no_cache", False) or cache.cache_disabled_by_environment()
-    cache.use_cache(None if off else cache.default_cache_directory())
+                       help=f"do not read or write the form-finding cache (same as {NO_CACHE_ENV}=1)")
 
 
 def progress_enabled(args: argparse.Namespace) -> bool:
@@ -450,16 +456,17 @@ def model_help(kind: str, default: str | None = None) -> str:
 def print_warnings(messages: Iterable[str]) -> None:
     """Print each warning as one line ``presag: warning: …`` on standard error, once per command
     (a message already shown, raised or printed, is not repeated); :func:`print_json` lists them."""
+    shown = _SHOWN_WARNINGS.get({})
     for message in messages:
         text = " ".join(str(message).split())
-        if text and text not in _SHOWN_WARNINGS:
-            _SHOWN_WARNINGS[text] = None
+        if text and text not in shown:
+            shown[text] = None
             print(f"presag: warning: {text}", file=sys.stderr, flush=True)
 
 
 def shown_warnings() -> list[str]:
     """The warnings the running command has shown so far, in order."""
-    return list(_SHOWN_WARNINGS)
+    return list(_SHOWN_WARNINGS.get({}))
 
 
 def add_plot_option(parser: argparse.ArgumentParser, figures: str) -> None:

@@ -23,11 +23,11 @@ import sys
 from collections.abc import Mapping
 
 from presag_opt.cli.common import band, positive_float
-from presag_opt.contact_force import KMH
 from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand
 from presag_opt.design.evidence import CREW_TOLERANCE
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 ELEMENT_LENGTH = 0.5
 """Default longest element of the static model, every command: the paper's 0.5 m. [m]"""

@@ -20,11 +20,11 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import builtin_model_names, load_catenary
+from presag_opt.units import KMH
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
     from presag_opt.dynamics.case import SimulationCase

@@ -36,12 +36,12 @@ from presag_opt.cli.decision_options import (
     print_decision,
     workers_of,
 )
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.robust.dynamic_check import window_settings
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.stitch import stitch_summary
+from presag_opt.units import KMH
 
 DEFAULT_MODEL = "st_9.8_ideal"
 DYNAMIC_DEFAULTS = {

@@ -9,7 +9,7 @@ from presag_opt.cli.common import (
     add_json_flag,
     output_folder,
     print_json,
-    progress_enabled,
+    progress,
     table,
 )
 from presag_opt.cli.decision_options import add_workers_option, workers_of
@@ -63,20 +63,16 @@ def sensitivity_command(args: argparse.Namespace) -> int:
     workers = workers_of(args)
     plot = output_folder(args.plot, "--plot") if args.plot else None
     out = output_folder(args.out, "--out") if args.out else None
-    show = progress_enabled(args)
 
     def announce(text: str) -> None:
         print(f"presag sensitivity: {text}", file=sys.stderr, flush=True)
 
-    def progress(done: int, total: int) -> None:
-        if show:
-            print(f"\r{done}/{total}", end="" if done < total else "\n", file=sys.stderr, flush=True)
-
     inputs = [n.strip() for n in args.inputs.split(",") if n.strip()] if args.inputs else None
-    result = sensitivity_analysis(
-        args.case, output=args.output, method=args.method, inputs=inputs, ranges=args.ranges, samples=args.samples,
-        seed=args.seed, workers=workers, scheduler=args.scheduler, out=out, announce=announce,
-        progress=progress)
+    with progress(args) as report:
+        result = sensitivity_analysis(
+            args.case, output=args.output, method=args.method, inputs=inputs, ranges=args.ranges,
+            samples=args.samples, seed=args.seed, workers=workers, scheduler=args.scheduler, out=out,
+            announce=announce, progress=report)
     paths = save_sensitivity_figures(result, plot) if plot and result.method != "spread" else []
     if args.json:
         print_json(result.to_dict())

@@ -21,6 +21,7 @@ from presag_opt.cli.common import (
 from presag_opt.cli.decision_options import add_element_length_option
 from presag_opt.elasticity import DEFAULT_FORCES, elasticity_study
 from presag_opt.errors import ModelError
+from presag_opt.runtime import NO_CACHE_ENV, default_cache_directory
 from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.system.loader import builtin_model_names, load_catenary
@@ -67,7 +68,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="show or clear the cache of form-found states",
         description="Form-found states are cached in $XDG_CACHE_HOME/presag_opt (default ~/.cache/presag_opt), "
         "keyed by the model's values, the settings, the package version and the code; --no-cache or "
-        f"{cache.CACHE_ENV_OFF}=1 turns the cache off.",
+        f"{NO_CACHE_ENV}=1 turns the cache off.",
     )
     p.add_argument("--clear", action="store_true", help="delete the cached states")
     p.set_defaults(handler=cache_command)
@@ -162,12 +163,12 @@ def elasticity_command(args: argparse.Namespace) -> int:
 
 def cache_command(args: argparse.Namespace) -> int:
     """Handler of ``presag cache``: where the cache is and what it holds, or ``--clear``."""
-    folder = cache.default_cache_directory()
+    folder = default_cache_directory()
     if args.clear:
         print(f"removed {cache.clear(folder)} cached state(s) from {folder}")
         return 0
     files = sorted(folder.glob("state-*.npz")) if folder.is_dir() else []
     size = sum(f.stat().st_size for f in files)
-    state = "off (--no-cache or " + cache.CACHE_ENV_OFF + ")" if cache.active_directory() is None else "on"
+    state = f"off (--no-cache or {NO_CACHE_ENV})" if cache.active_directory() is None else "on"
     print(f"cache {folder}: {len(files)} state(s), {size / 1e6:.1f} MB; {state}")
     return 0

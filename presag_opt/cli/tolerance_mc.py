@@ -266,21 +266,17 @@ def _print(data: dict) -> None:
 
 
 def _plot(values, data: dict, path) -> None:
-    import matplotlib
+    from presag_opt.style import drawing, new_figure, save_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    ax.hist(values, bins=min(60, max(10, len(values) // 50)), color="0.7")
-    ax.axvline(data["nominal_worst_case"], color="k", label="error-free")
-    ax.axvline(data["p95"]["value"], color="C3", linestyle="--", label="P95")
-    unit = "" if data["unit"] == "-" else f" [{data['unit']}]"
-    ax.set_xlabel(data["measure"] + unit)
-    ax.set_ylabel("realisations")
-    ax.set_title(f"S = {data['presag_mm']:.1f} mm, dropper {data['dropper_error_mm']:.1f} mm, height "
-                 f"{data['height_error_mm']:.1f} mm ({data['distribution']})", fontsize=9)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    with drawing():
+        fig, ax = new_figure(width=6.4, height=4.0)
+        ax.hist(values, bins=min(60, max(10, len(values) // 50)), color="0.7")
+        ax.axvline(data["nominal_worst_case"], color="k", label="error-free")
+        ax.axvline(data["p95"]["value"], color="C3", linestyle="--", label="P95")
+        unit = "" if data["unit"] == "-" else f" [{data['unit']}]"
+        ax.set_xlabel(data["measure"] + unit)
+        ax.set_ylabel("realisations")
+        ax.set_title(f"S = {data['presag_mm']:.1f} mm, dropper {data['dropper_error_mm']:.1f} mm, height "
+                     f"{data['height_error_mm']:.1f} mm ({data['distribution']})", fontsize=9)
+        ax.legend()
+        save_figure(fig, path)

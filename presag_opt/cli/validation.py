@@ -14,8 +14,8 @@ from presag_opt.cli.common import (
     print_json,
     table,
 )
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 from presag_opt.validation.en50318 import (
     EN50318_RANGES,
     en50318_ranges,

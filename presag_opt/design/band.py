@@ -21,11 +21,11 @@ import numpy as np
 from presag_opt import contact_force
 from presag_opt.errors import ModelError
 from presag_opt.system.quantity import quantity, validate_fields
+from presag_opt.units import KMH
 
 FORCE_LEVEL_SPACING = 50.0
 """Spacing of the elasticity force levels (the paper: "three force steps of 50 N"). [N]"""
 
-KMH = contact_force.KMH  # one km/h in m/s, defined once in presag_opt.contact_force [m/s]
 
 
 def mean_contact_force(

@@ -17,10 +17,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from presag_opt.contact_force import KMH, mean_contact_force
+from presag_opt.contact_force import mean_contact_force
 from presag_opt.design.validity_limit import PAPER_LIMIT, ValidityStatement, validity_statement
 from presag_opt.speed import doppler_factor, speed_ratio
 from presag_opt.system.components import Wire
+from presag_opt.units import KMH
 
 QUASI_STATIC_BETA_LIMIT = PAPER_LIMIT
 """Speed ratio β = v/c_CW up to which the paper finds the quasi-static rule valid (the high end of its

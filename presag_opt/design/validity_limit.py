@@ -35,8 +35,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 PAPER_ONSET = 0.35
 """β from which the paper's σ/F_m minimum becomes less distinct: the low end of its limit. [-]"""

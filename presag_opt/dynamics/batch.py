@@ -23,7 +23,6 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics import batch_newton
 from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, StaticLine, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
@@ -36,6 +35,7 @@ from presag_opt.dynamics.statistics import (
 from presag_opt.dynamics.structure import structural_model
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.equilibrium import EquilibriumState
+from presag_opt.units import KMH
 
 BATCH_SIZE = 16
 """Runs advanced together by the compiled kernel: enough to vectorise across runs and to hide the

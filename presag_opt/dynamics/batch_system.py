@@ -36,6 +36,7 @@ from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
 from presag_opt.native import sweeps as native_sweeps
 from presag_opt.native.banded_numba import banded_cholesky_solve
+from presag_opt.native.jit import compile_once
 from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.static.equilibrium import EquilibriumState
 
@@ -337,6 +338,8 @@ def integrate_batch(
     scratch = make_scratch(shared)
     work = make_work(shared, n_runs, lanes)
     c_sweeps = native_sweeps.sweeps()
+    compile_once(kernel.initialise, system.scalars, shared, runs, run_state, out, scratch)
+    compile_once(kernel.advance, 1, 1, compiled, c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch)
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
     for first in range(1, longest + 1, CHUNK_STEPS):
         kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, c_sweeps, system.scalars, shared, runs,

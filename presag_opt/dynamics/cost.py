@@ -22,11 +22,11 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.run_plan import RunPlan
 from presag_opt.errors import ModelError
 from presag_opt.static.run_time import form_find_estimate
 from presag_opt.system.catenary import Catenary
+from presag_opt.units import KMH
 
 MIN_AUTO_ELEMENT_LENGTH = 0.05
 """Shortest element automatic numerics may choose; shorter needs an explicit fixed setting. [m]"""

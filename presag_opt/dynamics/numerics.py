@@ -8,7 +8,7 @@ c/λ = f_c/(1 − β), β = v/c. Both shrink as β rises: 4.1 m and 23 Hz at 50 
 
 The rule (:func:`numerics_for_speed`): at least :data:`ELEMENTS_PER_WAVELENGTH` elements per λ and
 :data:`STEPS_PER_PERIOD` time steps per period of f_c/(1 − β), never coarser than the paper's 0.5 m
-and 2 ms. The two numbers come from the convergence study ``studies/convergence.py`` on the
+and 2 ms. The two numbers come from the convergence study ``research/convergence.py`` on the
 EN 50318-style case, the least damped of the built-in systems, against 0.25 m / 0.5 ms:
 
 - elements per λ at 300 km/h (0.5 ms): 3.8 → σ −15 %, 4.8 → −5.7 %, 5.8 → −1.8 %; at 250 km/h
@@ -31,8 +31,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 ELEMENTS_PER_WAVELENGTH = 8.0
 """Fewest elements per shortest relevant wavelength (c − v)/f_c. [-]"""

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.settings import OperatingPoint, Operation, SimulationSettings
 from presag_opt.dynamics.statistics import ContactForceStatistics
+from presag_opt.units import KMH
 
 
 def run_summary(

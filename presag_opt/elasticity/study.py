@@ -8,13 +8,14 @@ serial run would reuse, so the curves are the same to the last bit).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 
 from presag_opt.elasticity.curves import ElasticityCurve, ElasticityStudy
 from presag_opt.elasticity.methods import linear_elasticity, nonlinear_elasticity
 from presag_opt.errors import ModelError
-from presag_opt.processes import WorkerPolicy, pool_available, worker_pool
+from presag_opt.processes import WorkerPolicy, pool_available, run_job, worker_pool
 from presag_opt.static.equilibrium import EquilibriumState
 
 DEFAULT_FORCES = (50.0, 100.0, 150.0, 200.0)
@@ -82,27 +83,17 @@ def elasticity_study(
                            warnings=uplift_warnings(curves, state.catenary.system_height))
 
 
-_FORKED_STATE: list[EquilibriumState] = []
-"""The state handed to forked workers, set only while their pool is open (inherited, not pickled: it
-holds compiled CasADi functions; :func:`~presag_opt.processes.worker_pool` takes no initializer)."""
-
-
-def _forked_curve(force: float, span: int, step: float, method: str) -> ElasticityCurve:
-    return nonlinear_elasticity(_FORKED_STATE[0], force, span, step, method)
-
-
 def _parallel_curves(state, levels, span, step, method, workers, progress) -> list[ElasticityCurve]:
-    """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time."""
-    _FORKED_STATE[:] = [state]
-    try:
-        with worker_pool(min(workers, len(levels)), WorkerPolicy.INHERITED) as pool:
-            futures = [pool.submit(_forked_curve, force, span, step, method) for force in levels]
-            for done, _ in enumerate(as_completed(futures), start=1):
-                if progress:
-                    progress(f"elasticity curves done: {done}/{len(levels)}")
-            return [f.result() for f in futures]
-    finally:
-        _FORKED_STATE.clear()
+    """The nonlinear curves of :func:`elasticity_study`, one forked process per level at a time (the
+    state is the pool's job, inherited by the forked workers: it holds compiled CasADi functions,
+    which cannot be pickled)."""
+    job = functools.partial(nonlinear_elasticity, state)
+    with worker_pool(min(workers, len(levels)), WorkerPolicy.INHERITED, job=job) as pool:
+        futures = [pool.submit(run_job, force, span, step, method) for force in levels]
+        for done, _ in enumerate(as_completed(futures), start=1):
+            if progress:
+                progress(f"elasticity curves done: {done}/{len(levels)}")
+        return [f.result() for f in futures]
 
 
 def uplift_warnings(curves: Sequence[ElasticityCurve], system_height: float) -> tuple[str, ...]:

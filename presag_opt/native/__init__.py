@@ -4,14 +4,14 @@ The lowest layer of the package above :mod:`presag_opt.errors`: nothing here imp
 (the batch simulator's one driver loop, :func:`presag_opt.dynamics.kernel.advance`, takes the C
 sweeps of :mod:`~presag_opt.native.sweeps` as function pointers). Every C library gives the numbers of its
 fallback to the last bit; only the speed differs. Without a C compiler, or with
-``PRESAG_NO_COMPILE=1``, the fallbacks run.
+compiling turned off in the runtime (:mod:`presag_opt.runtime`; ``PRESAG_NO_COMPILE=1``), the fallbacks run.
 
 Modules
 -------
 compiler
     :func:`build`: compiles a C source with ``$CC`` into the user's cache folder, keyed by a hash of
     the source, the flags, the compiler and the processor (an edited source is a new library);
-    :func:`compiling_disabled` (``PRESAG_NO_COMPILE``); the cache folder's location.
+    :func:`compiling_disabled` (the runtime's :attr:`~presag_opt.runtime.Runtime.compile`).
 banded, ``banded.c``
     The banded Cholesky solve with many right-hand sides, its back-end (``"lapack"``,
     ``"compiled"``, ``"numba"`` or ``"auto"``) an explicit argument chosen per call.
@@ -26,6 +26,6 @@ jit
     function depends on (an edit anywhere it reaches recompiles it).
 """
 
-from presag_opt.native.compiler import COMPILE_ENV_OFF, build, compiling_disabled
+from presag_opt.native.compiler import build, compiling_disabled
 
-__all__ = ["COMPILE_ENV_OFF", "build", "compiling_disabled"]
+__all__ = ["build", "compiling_disabled"]

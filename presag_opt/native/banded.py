@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import scipy.linalg as sla
 
+from presag_opt import runtime
 from presag_opt.errors import ModelError
 from presag_opt.native import compiler
 
@@ -56,7 +57,8 @@ numba (no fused multiply-add, no fast-math)."""
 
 def compiled_available() -> bool:
     """Whether the C back-end can be used here (a working compiler, ``PRESAG_NO_COMPILE`` unset)."""
-    return not compiler.compiling_disabled() and _library_function(SOURCE.read_text()) is not None
+    library = compiler.build("banded", SOURCE.read_text(), FLAGS)
+    return library is not None and _loaded_solve(library) is not None
 
 
 def choose(rows: int, columns: int, backend: str = "auto") -> str:
@@ -87,7 +89,7 @@ def choose(rows: int, columns: int, backend: str = "auto") -> str:
     if backend == "compiled" and not compiled_available():
         raise ModelError(
             f"backend = 'compiled' needs the C library of banded.c, which cannot be built here (no C compiler "
-            f"${{CC}}, or {compiler.COMPILE_ENV_OFF} is set); use backend = 'auto', 'lapack' or 'numba'"
+            f"${{CC}}, or the runtime turns compiling off: {runtime.NO_COMPILE_ENV}); use backend = 'auto', 'lapack' or 'numba'"
         )
     if backend != "auto":
         return backend
@@ -145,8 +147,14 @@ def load_solve(library: Path) -> Callable:
     return function
 
 
-@functools.cache
 def _library_function(source: str) -> Callable | None:
-    """The C solve built from ``source`` (keyed by the source text itself), or None if it cannot be built."""
+    """The C solve built from ``source`` (the library named by the source text itself), or None if it
+    cannot be built."""
     library = compiler.build("banded", source, FLAGS)
-    return None if library is None else load_solve(library)
+    return None if library is None else _loaded_solve(library)
+
+
+@functools.cache
+def _loaded_solve(library: Path) -> Callable:
+    """:func:`load_solve` once per library file and process (loading a library twice gives the same functions)."""
+    return load_solve(library)

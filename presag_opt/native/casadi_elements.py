@@ -12,8 +12,9 @@ every discretisation: a section's elements are padded up to whole chunks (the pa
 discarded). The library is compiled by :func:`presag_opt.native.build` into the user's
 cache folder, named by a hash of its source (which names the CasADi version), the flags and the
 compiler, so a change of any of them builds a new one; building takes about a quarter of a second.
-Without a working compiler, or with ``PRESAG_NO_COMPILE=1``, the functions run
-in CasADi's virtual machine: same results, slower.
+Without a working compiler, or with compiling turned off in the runtime
+(:attr:`presag_opt.runtime.Runtime.compile`; ``PRESAG_NO_COMPILE=1`` for the command line), the
+functions run in CasADi's virtual machine: same results, slower.
 """
 
 from __future__ import annotations
@@ -29,11 +30,6 @@ from presag_opt import native
 
 CHUNK = 256
 """Elements per call of the compiled code; a section is padded up to whole chunks. [-]"""
-
-COMPILE_ENV_OFF = native.COMPILE_ENV_OFF
-"""Environment variable that, set to anything but "" or "0", keeps the element functions in
-CasADi's virtual machine (see :mod:`presag_opt.native.compiler`)."""
-
 
 def element_map(function: ca.Function, count: int) -> tuple[ca.Function, int]:
     """A function evaluating an element function over ``count`` elements, and the element count it
@@ -77,16 +73,17 @@ def _chunk_name(function: ca.Function) -> str:
 def _library_of(function: ca.Function) -> Path | None:
     if function.name() not in _FUNCTIONS or native.compiling_disabled():
         return None
-    return _library(tuple(sorted(_FUNCTIONS)))
+    return native.build("elements", _source(tuple(sorted(_FUNCTIONS))), ["-O2"])
 
 
 @functools.cache
-def _library(names: tuple[str, ...]) -> Path | None:
-    """The compiled library of the registered functions (built if missing), or None if it cannot be built."""
+def _source(names: tuple[str, ...]) -> str:
+    """The C source of the registered functions' chunks (generated once per process: the functions do
+    not change once registered)."""
     with tempfile.TemporaryDirectory() as scratch:
         generator = ca.CodeGenerator("presag_elements.c", {"with_header": False})
         for name in names:
             generator.add(_FUNCTIONS[name].map(_chunk_name(_FUNCTIONS[name]), "serial", CHUNK, [], []))
         generator.generate(scratch + os.sep)
         text = (Path(scratch) / "presag_elements.c").read_text()
-    return native.build("elements", f"/* CasADi {ca.__version__} */\n{text}", ["-O2"])
+    return f"/* CasADi {ca.__version__} */\n{text}"

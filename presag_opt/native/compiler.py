@@ -6,12 +6,14 @@ sweeps over all DOFs (:mod:`presag_opt.native.sweeps`). Both give the same numbe
 fallbacks to the last bit; only the speed differs.
 
 :func:`build` compiles a source text with ``$CC`` (default ``cc``) into
-``$XDG_CACHE_HOME/presag_opt/compiled``, named by a hash of the source, the flags, the compiler
+the runtime's library folder (:attr:`presag_opt.runtime.Runtime.library_folder`, by default
+``$XDG_CACHE_HOME/presag_opt/compiled``), named by a hash of the source, the flags, the compiler
 and, for code tuned to this processor (``-march=native``), the processor's model and instruction
 sets, so that any change builds a new library and a cache folder shared between different machines
 never hands one the other's code. A build is written atomically (concurrent processes may build the
-same library). Without a working compiler, or with ``PRESAG_NO_COMPILE`` set to anything but "" or
-"0", nothing is built and the callers use their fallbacks.
+same library). Without a working compiler, or with compiling turned off in the runtime
+(:attr:`~presag_opt.runtime.Runtime.compile`; ``PRESAG_NO_COMPILE=1`` for the command line),
+nothing is built and the callers use their fallbacks.
 """
 
 from __future__ import annotations
@@ -26,22 +28,12 @@ import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
-
-def default_cache_directory() -> Path:
-    """``$XDG_CACHE_HOME/presag_opt``, or ``~/.cache/presag_opt``: the package's folder in the user's
-    cache (compiled libraries in its ``compiled`` subfolder, form-found states in
-    :mod:`presag_opt.static.cache`)."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "presag_opt"
-
-
-COMPILE_ENV_OFF = "PRESAG_NO_COMPILE"
-"""Environment variable that, set to anything but "" or "0", turns all compiled code off."""
+from presag_opt import runtime
 
 
 def compiling_disabled() -> bool:
-    """Whether ``PRESAG_NO_COMPILE`` turns compiled code off."""
-    return os.environ.get(COMPILE_ENV_OFF, "") not in ("", "0")
+    """Whether the runtime in force turns compiled code off (:attr:`presag_opt.runtime.Runtime.compile`)."""
+    return not runtime.current().compile
 
 
 @functools.cache
@@ -74,19 +66,21 @@ def build(stem: str, source: str, flags: Sequence[str]) -> Path | None:
     Path or None
         None when compiling is turned off, no compiler is found or the build fails.
     """
-    if compiling_disabled():
+    settings = runtime.current()
+    if not settings.compile:
         return None
-    return _build(stem, source, tuple(flags))
-
-
-@functools.cache
-def _build(stem: str, source: str, flags: tuple[str, ...]) -> Path | None:
     compiler = shutil.which(os.environ.get("CC", "cc"))
     if compiler is None:
         return None
+    return _build(stem, source, tuple(flags), compiler, settings.library_folder)
+
+
+@functools.cache
+def _build(stem: str, source: str, flags: tuple[str, ...], compiler: str, folder: Path) -> Path | None:
+    """:func:`build` with ``compiler`` into ``folder``, once per process for the same arguments (the
+    library's file name is a function of them, and a failed build fails again)."""
     machine = _processor() if "-march=native" in flags else platform.machine()
     key = hashlib.sha256("\0".join([source, *flags, compiler, machine]).encode()).hexdigest()[:20]
-    folder = default_cache_directory() / "compiled"
     target = folder / f"{stem}-{key}.so"
     if target.exists():
         return target

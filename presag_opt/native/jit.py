@@ -11,25 +11,31 @@ inline). An edit of any of them makes numba recompile the function on its next u
 stale entry; the cache stays where numba keeps it (``__pycache__`` beside the source, or
 ``NUMBA_CACHE_DIR``).
 
-The locator joins numba's list of cache locators (``numba.core.caching.CacheImpl._locator_classes``,
-the hook numba's own locators use) and takes only the functions compiled by :func:`kernel_function`;
-every other numba function keeps numba's locators.
+Compiling the kernel takes about a minute of one core. :func:`compile_once` compiles a kernel entry
+point for the types of a call before the call, one process at a time: a process that finds another
+compiling (the workers of a pool started together, two commands, the workers of a test run) waits
+for it and then loads its cache instead of compiling the same code again on a core that has other
+work.
+
+Only the functions compiled by :func:`kernel_function` use the locator: each gets a cache of its own
+class (:class:`KernelCache`, numba's function cache with :class:`DependencyLocator` as its one locator)
+when it is defined; numba's own list of locators and every other numba function are left as they are,
+and importing this module changes nothing in numba.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from pathlib import Path
 
 from numba import njit
 from numba.core import caching
 from numba.core.dispatcher import Dispatcher
-
-_KERNEL_FUNCTIONS: set = set()
-"""The Python functions compiled by :func:`kernel_function` (the ones the locator takes)."""
 
 
 def dependency_files(function: Callable) -> tuple[str, ...]:
@@ -93,27 +99,69 @@ class DependencyLocator(caching._CacheLocator):
 
     @classmethod
     def from_function(cls, py_func: Callable, py_file: str) -> DependencyLocator | None:
-        """A locator for ``py_func`` (defined in ``py_file``) when it is a kernel function, wrapping the
-        first of numba's own locators that takes it; None otherwise (numba then tries its own)."""
-        if py_func not in _KERNEL_FUNCTIONS:
-            return None
+        """A locator for ``py_func`` (defined in ``py_file``), wrapping the first of numba's own
+        locators that takes it; None if none does."""
         for locator in caching.CacheImpl._locator_classes:
-            if locator is not cls:
-                inner = locator.from_function(py_func, py_file)
-                if inner is not None:
-                    return cls(inner, py_func)
+            inner = locator.from_function(py_func, py_file)
+            if inner is not None:
+                return cls(inner, py_func)
         return None
 
 
-if DependencyLocator not in caching.CacheImpl._locator_classes:
-    caching.CacheImpl._locator_classes.insert(0, DependencyLocator)
+class _KernelCacheImpl(caching.CompileResultCacheImpl):
+    """numba's cache of compiled functions, found by :class:`DependencyLocator` alone."""
+
+    _locator_classes = [DependencyLocator]
+
+
+class KernelCache(caching.FunctionCache):
+    """The on-disk cache of one kernel function: numba's function cache, keyed by :func:`source_stamp`."""
+
+    _impl_class = _KernelCacheImpl
+
+
+def compile_once(dispatcher: Dispatcher, *args: object) -> None:
+    """Compile (or load from the cache) a kernel function for the types of ``args`` before it is
+    called with them, holding a lock beside its cache while doing so (see the module notes).
+
+    Parameters
+    ----------
+    dispatcher : numba Dispatcher
+        A function made by :func:`kernel_function`.
+    *args
+        The arguments it is about to be called with (only their numba types matter).
+    """
+    types_ = tuple(dispatcher.typeof_pyval(a) for a in args)
+    if types_ in dispatcher.overloads:
+        return
+    with _compile_lock(dispatcher):
+        dispatcher.compile(types_)
+
+
+@contextlib.contextmanager
+def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
+    """An exclusive lock on a file in the kernel function's cache folder (none where file locks or the
+    folder are not available: each process then compiles on its own, as numba alone would)."""
+    try:
+        import fcntl
+
+        locator = dispatcher._cache._impl.locator
+        locator.ensure_cache_path()
+        handle = open(Path(locator.get_cache_path()) / "presag-kernel.lock", "a")  # noqa: SIM115 - closed below
+    except (ImportError, AttributeError, OSError):
+        yield
+        return
+    with handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)  # released when the file is closed
+        yield
 
 
 def kernel_function(function: Callable) -> Dispatcher:
     """``numba.njit(cache=True)`` with the cache keyed by every source file the function depends on
     (see the module notes). Define the function after the imports of what it calls."""
-    _KERNEL_FUNCTIONS.add(function)
-    return njit(cache=True)(function)
+    dispatcher = njit(function)
+    dispatcher._cache = KernelCache(function)  # what ``cache=True`` sets up, with this cache class
+    return dispatcher
 
 
 def inline(function: Callable) -> Dispatcher:

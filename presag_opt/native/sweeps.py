@@ -15,7 +15,7 @@ loaded into the process with ctypes; :func:`sweeps` hands its functions to the k
 pointers, and :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call them with the
 arguments of the numba sweeps, so that the one driver loop,
 :func:`presag_opt.dynamics.kernel.advance`, takes either kind. Without a compiler, or with
-``PRESAG_NO_COMPILE=1``, :func:`available` is False, :func:`sweeps` gives stand-ins of the same
+compiling turned off in the runtime (``PRESAG_NO_COMPILE=1``), :func:`available` is False, :func:`sweeps` gives stand-ins of the same
 signatures, and the kernel takes the numba sweeps.
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
@@ -64,10 +64,9 @@ class CSweeps(NamedTuple):
     update: object
 
 
-@functools.cache
 def available() -> bool:
     """Whether the compiled sweeps are built for this machine (False without a C compiler or with
-    ``PRESAG_NO_COMPILE`` set)."""
+    compiling turned off in the runtime in force, :attr:`presag_opt.runtime.Runtime.compile`)."""
     return native.build("sweeps", SOURCE.read_text(), FLAGS) is not None
 
 
@@ -94,7 +93,7 @@ _STAND_INS = CSweeps(*(ctypes.CFUNCTYPE(None, *arguments)(_missing) for argument
 def sweeps() -> CSweeps:
     """The C sweeps for the kernel: the built library's functions, or, without one, stand-ins of the
     same signatures (the kernel then takes the numba sweeps and never calls them)."""
-    library = native.build("sweeps", SOURCE.read_text(), FLAGS) if available() else None
+    library = native.build("sweeps", SOURCE.read_text(), FLAGS)
     return _loaded(str(library)) if library is not None else _STAND_INS
 
 

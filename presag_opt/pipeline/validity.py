@@ -14,7 +14,6 @@ from pathlib import Path
 
 import xarray as xr
 
-from presag_opt.contact_force import KMH
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.evidence import ValiditySweep
 from presag_opt.dynamics.pantograph import Pantograph
@@ -25,6 +24,7 @@ from presag_opt.studies.validity_analysis import validity_analysis
 from presag_opt.studies.validity_evidence import validity_sweep
 from presag_opt.studies.validity_results import ValidityResult
 from presag_opt.system.catenary import Catenary
+from presag_opt.units import KMH
 
 BASE_STUDY = "paper_grid_st98"
 """Study whose numerics, analysis window and uplift limit a reduced sweep starts from."""

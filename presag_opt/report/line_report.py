@@ -16,6 +16,7 @@ from presag_opt.design.line_results import LineDesign
 from presag_opt.errors import ModelError
 from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
 from presag_opt.report.html import CSS, _e, _table, decision_html
+from presag_opt.style import new_figure, save_figure, styled
 
 DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
                    "contact_wire_height_mm", "presag_mm")
@@ -211,6 +212,7 @@ def _check_html(check: LineDynamicCheck, limit: float) -> str:
                       "loss of contact [%]"], rows, {1, 2, 3, 4, 5, 6}))
 
 
+@styled
 def plot_along_line(design: LineDesign, path: str | Path) -> Path:
     """Save e_mid, e at the masts and Δe (top) and the pre-sag built (bottom) against chainage.
 
@@ -221,8 +223,6 @@ def plot_along_line(design: LineDesign, path: str | Path) -> Path:
     path : str or Path
         Output file; the suffix sets the format.
     """
-    from presag_opt.style import new_figure, save_figure
-
     spans = design.spans
     mid = [s.chainage + 0.5 * s.length for s in spans]
     fig, (top, bottom) = new_figure(2, 1, width=9.0, height=5.5, sharex=True)

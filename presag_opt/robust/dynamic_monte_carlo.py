@@ -30,6 +30,7 @@ instead (the tests and the benchmark compare the two).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import time as wallclock
@@ -46,7 +47,7 @@ from presag_opt.dynamics.batch import simulate_installed, simulate_many
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ConvergenceError, ModelError
-from presag_opt.processes import WorkerPolicy, worker_pool
+from presag_opt.processes import WorkerMemo, WorkerPolicy, run_job, worker_pool
 from presag_opt.robust.installation import (
     InstallationErrors,
     InstallationSample,
@@ -137,12 +138,13 @@ class DynamicMonteCarloResult:
 
 def _realisation_runs(catenary: Catenary, pantograph, grid: OperatingGrid, settings: SimulationSettings,
                       static_settings: StaticSettings, presag_rel: float, sample: InstallationSample,
-                      spacings=None, shared_structure: bool = True) -> list[RealisationRuns]:
+                      spacings=None, shared_structure: bool = True, memo: WorkerMemo | None = None,
+                      ) -> list[RealisationRuns]:
     """Re-solve and simulate every realisation of ``sample`` (one worker's share) on the design,
-    form-found once per process (:func:`_nominal_state`): all of them in one
-    :func:`~presag_opt.dynamics.batch.simulate_installed` batch on the design's structure, or each on
-    its own structure (``shared_structure=False``)."""
-    nominal = _nominal_state(catenary, static_settings, presag_rel)
+    form-found once per memo (:func:`_nominal_state`; the memo of a worker's job serves all its
+    tasks): all of them in one :func:`~presag_opt.dynamics.batch.simulate_installed` batch on the
+    design's structure, or each on its own structure (``shared_structure=False``)."""
+    nominal = _nominal_state(catenary, static_settings, presag_rel, memo or WorkerMemo(1))
     points = grid.points()
     started, cpu = wallclock.perf_counter(), wallclock.process_time()
     states = [installed_state(nominal, sample, i) for i in range(sample.samples)]
@@ -175,13 +177,9 @@ def _worst_cases(batch, slack_at_rest: int, wall_time: float, cpu_time: float) -
     )
 
 
-_NOMINAL: dict = {}
-"""The form-found design of this process, keyed by (catenary, static settings, S_rel): a worker
-form-finds it once for all its tasks, not once per task."""
-
-
-def _nominal_state(catenary: Catenary, static_settings: StaticSettings, presag_rel: float):
-    """The design form-found with ``static_settings``, cached in this process (one entry).
+def _nominal_state(catenary: Catenary, static_settings: StaticSettings, presag_rel: float, memo: WorkerMemo):
+    """The design form-found with ``static_settings``, kept in ``memo`` (a worker form-finds it once
+    for all its tasks, not once per task).
 
     Parameters
     ----------
@@ -191,12 +189,11 @@ def _nominal_state(catenary: Catenary, static_settings: StaticSettings, presag_r
         Form-finding settings.
     presag_rel : float
         Design S_rel. [-]
+    memo : WorkerMemo
+        Where the state is kept.
     """
-    key = (catenary, static_settings, float(presag_rel))
-    if key not in _NOMINAL:
-        _NOMINAL.clear()
-        _NOMINAL[key] = form_find(catenary.with_presag(presag_rel), static_settings)
-    return _NOMINAL[key]
+    return memo.get((catenary, static_settings, float(presag_rel)),
+                    lambda: form_find(catenary.with_presag(presag_rel), static_settings))
 
 
 def dynamic_monte_carlo(
@@ -273,7 +270,8 @@ def dynamic_monte_carlo(
     settings = settings or SimulationSettings(numerics="auto")
     grid.check(catenary, pantograph, settings)
     static_settings = band_static_settings(catenary, grid.speeds, settings)
-    probe = _nominal_state(catenary, static_settings, presag_rel)
+    memo = WorkerMemo(1)
+    probe = _nominal_state(catenary, static_settings, presag_rel, memo)
     disc = probe.discretisation
     draws = draw_installation_errors(samples, len(disc.dropper_elements), len(disc.mast_station),
                                      distribution=errors.distribution, seed=seed)
@@ -286,7 +284,8 @@ def dynamic_monte_carlo(
     tasks = [] if NOMINAL in found else [(NOMINAL, zero.row(0))]
     tasks += [(indices, _rows(sample, indices)) for indices in
               (pending[first:first + chunk] for first in range(0, len(pending), chunk))]
-    common = (catenary, pantograph, grid, settings, static_settings, presag_rel)
+    job = functools.partial(_realisation_runs, catenary, pantograph, grid, settings, static_settings, presag_rel,
+                            spacings=spacings, shared_structure=shared_structure, memo=memo)
     runs: dict[int, RealisationRuns] = dict(found)
     done = sum(i != NOMINAL for i in found)
 
@@ -305,14 +304,13 @@ def dynamic_monte_carlo(
     if found and progress:
         progress(f"dynamic Monte Carlo: {done}/{samples} realisations read back from {store}")
     if workers > 1 and len(tasks) > 1:
-        with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED) as pool:
-            futures = {pool.submit(_realisation_runs, *common, rows, spacings, shared_structure): indices
-                       for indices, rows in tasks}
+        with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED, job=job) as pool:
+            futures = {pool.submit(run_job, rows): indices for indices, rows in tasks}
             for future in as_completed(futures):
                 finished(futures[future], future.result())
     else:
         for indices, rows in tasks:
-            finished(indices, _realisation_runs(*common, rows, spacings, shared_structure))
+            finished(indices, job(rows))
     nominal = runs[NOMINAL]
     realisations = tuple(runs[i] for i in range(samples))
     percentiles = {m: percentile_summary([getattr(r, m) for r in realisations], confidence=confidence)

@@ -67,11 +67,6 @@ class InstallationErrors:
             raise ModelError(f"distribution = {self.distribution!r} is not one of {', '.join(DISTRIBUTIONS)}")
 
     @property
-    def error_free(self) -> bool:
-        """Whether every size is zero."""
-        return self.dropper_length == self.contact_wire_height == self.messenger_height == 0.0
-
-    @property
     def standard_deviations(self) -> tuple[float, float, float]:
         """Standard deviation of each error (t/√3 for a uniform ±t). [m]"""
         scale = 1.0 if self.distribution == "normal" else 1.0 / math.sqrt(3.0)

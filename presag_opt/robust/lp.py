@@ -159,12 +159,14 @@ def _peak_to_peak(path: PathModel, z: cp.Expression, uplift: cp.Parameter) -> tu
 
 
 def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: Buildability | None):
-    """The LP, built once per (shape, risk, scenario count, buildability) and cached on the path."""
+    """The LP, built once per (shape, risk, scenario count, buildability) and kept with the path."""
+    return path.problem("robust", (shape, risk.label, n_scenarios, build),
+                        lambda: _build_problem(path, shape, risk, n_scenarios, build))
+
+
+def _build_problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: Buildability | None):
     import cvxpy as cp  # on first use: importing it takes about a second
 
-    key = (shape, risk.label, n_scenarios, build)
-    if key in path._problems:
-        return path._problems[key]
     symmetric = build.symmetric if (build and shape == "per-dropper") else False
     design_map, offset = _design_map(path, shape, symmetric)
     variables = cp.Variable(design_map.shape[1])
@@ -201,8 +203,7 @@ def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: B
     problem = cp.Problem(cp.Minimize(objective), constraints)
     if not problem.is_dpp():
         raise AssertionError("robust pre-sag LP must be DPP (parameters enter affinely)")
-    path._problems[key] = (problem, variables, depths, uplift, weights, design_map)
-    return path._problems[key]
+    return problem, variables, depths, uplift, weights, design_map
 
 
 def _solve(problem: cp.Problem) -> str:

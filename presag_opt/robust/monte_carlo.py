@@ -146,16 +146,6 @@ class MonteCarloResult:
         """Realisations. [-]"""
         return len(self.worst_case)
 
-    def relative_loss(self, level: int = 95) -> float:
-        """Percentile ``level`` over the error-free worst case, minus 1. [-]
-
-        Parameters
-        ----------
-        level : int
-            Percentile, one of those summarised (:data:`PERCENTILES`). [%]
-        """
-        return self.percentiles[level].value / self.nominal_worst_case - 1.0
-
 
 def _chunked_worst(path: PathModel, depths: np.ndarray, scenarios: ForceScenarios, moves: np.ndarray) -> np.ndarray:
     """Worst-case waviness over forces and analysed spans of each realisation (rows of ``moves``). [m]"""

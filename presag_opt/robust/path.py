@@ -20,7 +20,10 @@ Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, sect
 from __future__ import annotations
 
 import dataclasses
+import functools
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -33,6 +36,10 @@ from presag_opt.static.form_finding import dropper_height_sensitivity
 
 SENSITIVITY_CUTOFF = 1e-9
 """Geometry sensitivities smaller than this are round-off of the implicit-function solve. [m/m]"""
+
+PROBLEM_KINDS = ("robust", "tolerance")
+"""The optimisation problems a path model keeps (:meth:`PathModel.problem`): the robust pre-sag LPs
+of :mod:`presag_opt.robust.lp` and the tolerance-band LP pairs of :mod:`presag_opt.robust.tolerance`."""
 
 
 @dataclass(frozen=True)
@@ -84,24 +91,41 @@ class PathModel:
     dropper_length: np.ndarray
     length_sensitivity: np.ndarray
     nodes: np.ndarray
-    _problems: dict = field(default_factory=dict, repr=False, compare=False)
+    problems: dict[str, dict[Hashable, Any]] = field(
+        default_factory=lambda: {kind: {} for kind in PROBLEM_KINDS}, init=False, repr=False, compare=False)
+    """The optimisation problems built on this path, by kind (:data:`PROBLEM_KINDS`) and key."""
+
+    def problem(self, kind: str, key: Hashable, build: Callable[[], Any]) -> Any:
+        """The problem of ``kind`` for ``key``: built by ``build`` on first use, then kept with this
+        path (a cvxpy problem is built once and re-solved with new parameter values).
+
+        Parameters
+        ----------
+        kind : str
+            One of :data:`PROBLEM_KINDS`.
+        key : hashable
+            What the problem's structure depends on (shape, risk, scenario count, ...).
+        build : callable
+            Builds the problem (and whatever the caller keeps with it).
+        """
+        kept = self.problems[kind]
+        if key not in kept:
+            kept[key] = build()
+        return kept[key]
 
     @property
     def spans(self) -> tuple[int, ...]:
         """Analysed spans, from 0."""
         return self.section.spans
 
-    @property
+    @functools.cached_property
     def sparse_sensitivity(self) -> sp.csr_matrix:
         """:attr:`sensitivity` without its round-off entries (below 1e-9 m/m).
 
         A node feels only the droppers of its own span (the masts are held at their height), but the
         implicit-function solve leaves round-off everywhere; dropping it keeps the LP sparse.
         """
-        if "sparse_sensitivity" not in self._problems:
-            dense = np.where(np.abs(self.sensitivity) < SENSITIVITY_CUTOFF, 0.0, self.sensitivity)
-            self._problems["sparse_sensitivity"] = sp.csr_matrix(dense)
-        return self._problems["sparse_sensitivity"]
+        return sp.csr_matrix(np.where(np.abs(self.sensitivity) < SENSITIVITY_CUTOFF, 0.0, self.sensitivity))
 
     @property
     def span_lengths(self) -> np.ndarray:

@@ -82,8 +82,8 @@ def tolerance_band(
 
     check_within(within)
     best = robust_presag(path, scenarios, shape="parabola", risk=Risk())
-    key = ("tolerance", len(scenarios.forces))
-    if key not in path._problems:
+
+    def build():
         s = cp.Variable()
         uplift = cp.Parameter((len(scenarios.forces), len(path.node_span)))
         bound = cp.Parameter(nonneg=True)
@@ -91,9 +91,9 @@ def tolerance_band(
         z = path.base_height - path.sensitivity @ path.reference_depth + shape * s
         spread, bounds = _peak_to_peak(path, z, uplift)
         constraints = [*bounds, spread <= bound, s >= 0]
-        path._problems[key] = (cp.Problem(cp.Minimize(s), constraints), cp.Problem(cp.Maximize(s), constraints),
-                               s, uplift, bound)
-    lower, upper, s, uplift, bound = path._problems[key]
+        return cp.Problem(cp.Minimize(s), constraints), cp.Problem(cp.Maximize(s), constraints), s, uplift, bound
+
+    lower, upper, s, uplift, bound = path.problem("tolerance", len(scenarios.forces), build)
     uplift.value = path.uplift(scenarios.forces)
     # a hair above (1 + within)·R* so the optimum itself is always feasible despite solver tolerance
     bound.value = (1.0 + within) * best.worst_case_waviness * (1 + 1e-7) + 1e-9

@@ -212,7 +212,7 @@ def sensitivity_analysis(
     resolution: Resolution | None = None,
     numerics: ScreeningNumerics | None = None,
     announce: Callable[[str], None] | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> SensitivityResult:
     """Morris screening or Sobol indices of one output of a case over its uncertain inputs.
 
@@ -249,7 +249,7 @@ def sensitivity_analysis(
     announce : callable, optional
         Called once with the cost estimate (first evaluation × evaluations / workers).
     progress : callable, optional
-        Called with (done, total) during the evaluations.
+        Called with a short message (``"evaluations: done/total"``) during the evaluations.
 
     Raises
     ------

@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from presag_opt.contact_force import KMH
+from presag_opt import runtime
 from presag_opt.errors import ModelError
-from presag_opt.processes import WorkerPolicy, worker_pool
+from presag_opt.processes import WorkerPolicy, run_job, worker_pool
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
@@ -45,7 +45,8 @@ from presag_opt.studies.store import (
     save_unit,
 )
 from presag_opt.studies.validity_analysis import validity_analysis
-from presag_opt.studies.work import all_units, run_units, task_groups
+from presag_opt.studies.work import UnitRunner, all_units, run_on_cluster, task_groups
+from presag_opt.units import KMH
 
 MOVE_THRESHOLD = 5.0
 """Rise of the optimal F_m between the smallest and largest pre-sag above which a minimum "moves". [N]"""
@@ -186,7 +187,7 @@ def _moves(result, which: str) -> float:
 
 def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path | None = None, workers: int = 1,
                     scheduler: str | None = None,
-                    progress: Callable[[int, int], None] | None = None) -> list[xr.Dataset]:
+                    progress: Callable[[str], None] | None = None) -> list[xr.Dataset]:
     """Run the studies of all samples together and return their datasets, in sample order.
 
     Parameters
@@ -200,7 +201,7 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
     scheduler : str, optional
         Address of a Dask distributed scheduler instead of local workers.
     progress : callable, optional
-        Called with (done, total) runs after each task.
+        Called with a message (``"runs: done/total"``) after each task.
     """
     folders: list[Path | None] = []
     if out is not None:
@@ -232,16 +233,17 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             results[i][result.unit.key] = result
         finished += len(unit_results) * len(definitions[i].grid.static_forces)
         if progress:
-            progress(finished, total)
+            progress(f"runs: {finished}/{total}")
 
     if scheduler is not None:
         _run_dask(definitions, tasks, scheduler, collect)
     elif workers == 1 or len(tasks) <= 1:
+        runner = UnitRunner()
         for i, group in tasks:
-            collect(i, run_units(definitions[i], group))
+            collect(i, runner(definitions[i], group))
     else:
-        with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED) as pool:
-            futures = {pool.submit(run_units, definitions[i], group): i for i, group in tasks}
+        with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED, job=UnitRunner()) as pool:
+            futures = {pool.submit(run_job, definitions[i], group): i for i, group in tasks}
             for future in as_completed(futures):
                 collect(futures[future], future.result())
     return [assemble(d, [results[i][u.key] for u in all_units(d)]) for i, d in enumerate(definitions)]
@@ -254,7 +256,9 @@ def _run_dask(definitions, tasks, address: str, collect) -> None:
     with dask_client(address) as client:
         from distributed import as_completed as dask_completed
 
-        futures = {client.submit(run_units, definitions[i], group, pure=False): i for i, group in tasks}
+        runner = client.scatter(UnitRunner(), broadcast=True)
+        futures = {client.submit(run_on_cluster, runner, runtime.current(), definitions[i], group, pure=False): i
+                   for i, group in tasks}
         try:
             for future in dask_completed(list(futures)):
                 collect(futures[future], future.result())

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 from dataclasses import dataclass
@@ -239,7 +238,7 @@ def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndic
 
 def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray, *, workers: int = 1,
                   scheduler: str | None = None, chunk: int = 1,
-                  progress: Callable[[int, int], None] | None = None, store: Path | None = None) -> np.ndarray:
+                  progress: Callable[[str], None] | None = None, store: Path | None = None) -> np.ndarray:
     """Evaluate ``function`` at every row, in worker processes or on a Dask cluster, results in row order.
 
     Parameters
@@ -256,7 +255,7 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
         Rows ``chunk·j … chunk·(j + 1) − 1`` run as one task, one after the other in one process, so
         that an evaluator can reuse work between consecutive rows (a Morris trajectory: ``k + 1``). [-]
     progress : callable, optional
-        Called with (done, total) after each task.
+        Called with a message (``"evaluations: done/total"``) after each task.
     store : Path, optional
         Folder keeping each finished evaluation (``row_NNNNN.json``, written atomically); a rerun
         reads them back instead of computing. A file whose row differs from the design is refused.
@@ -295,7 +294,7 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
                              json.dumps({"row": [float(v) for v in rows[i]], "values": results[i].tolist()}).encode())
         done += len(indices)
         if progress:
-            progress(done, len(rows))
+            progress(f"evaluations: {done}/{len(rows)}")
 
     batches = [(indices, rows[indices]) for indices in tasks.values()]
     if scheduler is not None:
@@ -431,9 +430,3 @@ def sobol_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values: 
     return OutputIndices(output=output, unit=unit, method="sobol", sobol=tuple(rows_out),
                          mean=float(np.mean(values)), std=float(np.std(values)))
 
-
-def stderr_progress(label: str) -> Callable[[int, int], None]:
-    """A progress callback writing ``label: done/total`` to standard error."""
-    def report(done: int, total: int) -> None:
-        print(f"{label}: {done}/{total} evaluations", file=sys.stderr, flush=True)
-    return report

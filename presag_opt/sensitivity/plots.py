@@ -8,12 +8,13 @@ from pathlib import Path
 import numpy as np
 
 from presag_opt.sensitivity.methods import OutputIndices
-from presag_opt.style import new_figure, save_figure
+from presag_opt.style import new_figure, save_figure, styled
 
 LABELLED = 8
 """Inputs labelled in a Morris plot (the largest μ*). [-]"""
 
 
+@styled
 def plot_morris(table: OutputIndices, path: str | Path) -> Path:
     """μ* against σ of one output; the inputs with the largest μ* are labelled.
 
@@ -38,6 +39,7 @@ def plot_morris(table: OutputIndices, path: str | Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def plot_sobol(table: OutputIndices, path: str | Path) -> Path:
     """Bars of S1 and ST of one output with their confidence intervals, largest ST first."""
     rows = table.sobol

@@ -12,9 +12,11 @@ CasADi versions and the source text of the modules the result depends on (``syst
 ``static``), so a code change invalidates every entry. A file that cannot be read, or whose arrays
 do not fit the model, counts as a miss and is rewritten.
 
-The library does not cache unless told to (:func:`use_cache`); the ``presag`` command line turns the
-cache on in the user's cache directory (:func:`default_cache_directory`) unless ``--no-cache`` is
-given or ``PRESAG_NO_CACHE`` is set.
+The folder is the runtime's (:attr:`presag_opt.runtime.Runtime.state_cache`): the library does not
+cache unless a runtime with a cache folder is in force; the ``presag`` command line runs in one whose
+folder is the user's cache directory (:func:`presag_opt.runtime.default_cache_directory`) unless
+``--no-cache`` is given or ``PRESAG_NO_CACHE`` is set. Worker processes receive their parent's runtime,
+so they read and write the same folder.
 """
 
 from __future__ import annotations
@@ -30,13 +32,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from presag_opt.native.compiler import default_cache_directory  # noqa: F401 (the command line's cache folder)
+from presag_opt import runtime
 
 if TYPE_CHECKING:
     from presag_opt.static.equilibrium import EquilibriumState, StaticModel
-
-CACHE_ENV_OFF = "PRESAG_NO_CACHE"
-"""Environment variable that turns the command line's cache off when set to anything but ``0`` or ``""``."""
 
 _SOURCE_PARTS = ("system", "native", "static")
 """Parts of the package whose code determines a form-found state."""
@@ -45,23 +44,9 @@ MAX_ENTRIES = 32
 """Cached states kept; the least recently used beyond this are deleted (a code change or a new model
 starts new entries, and a mixed section takes about 0.5 MB). [-]"""
 
-_active: Path | None = None
-
-
-def cache_disabled_by_environment() -> bool:
-    """Whether ``PRESAG_NO_CACHE`` asks for no cache."""
-    return os.environ.get(CACHE_ENV_OFF, "") not in ("", "0")
-
-
-def use_cache(directory: str | Path | None) -> None:
-    """Cache form-found states in ``directory`` from now on (None: no cache, the default)."""
-    global _active
-    _active = None if directory is None else Path(directory)
-
-
 def active_directory() -> Path | None:
-    """The directory in use, or None."""
-    return _active
+    """The folder of the runtime in force (:attr:`presag_opt.runtime.Runtime.state_cache`), or None."""
+    return runtime.current().state_cache
 
 
 def clear(directory: str | Path) -> int:
@@ -101,15 +86,17 @@ def state_key(catenary: object, settings: object) -> str:
 
 def contains(key: str) -> bool:
     """Whether the active directory holds a file for ``key`` (it may still turn out unreadable)."""
-    return _active is not None and (_active / f"state-{key}.npz").is_file()
+    folder = active_directory()
+    return folder is not None and (folder / f"state-{key}.npz").is_file()
 
 
 def load(key: str) -> dict[str, np.ndarray] | None:
     """The arrays stored under ``key`` in the active directory, or None (no cache, a miss, or an
     unreadable file)."""
-    if _active is None:
+    folder = active_directory()
+    if folder is None:
         return None
-    path = _active / f"state-{key}.npz"
+    path = folder / f"state-{key}.npz"
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: data[name] for name in data.files}
@@ -129,18 +116,19 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
     arrays : dict of str to ndarray
         Arrays to store, by name; each carries its own unit. [-]
     """
-    if _active is None:
+    folder = active_directory()
+    if folder is None:
         return
     try:
-        _active.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=_active, suffix=".tmp")
+        folder.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=folder, suffix=".tmp")
     except OSError:
         return  # a read-only cache directory must not stop the computation
     try:
         with os.fdopen(handle, "wb") as fh:
             np.savez(fh, **arrays)
-        os.replace(temporary, _active / f"state-{key}.npz")
-        entries = sorted(_active.glob("state-*.npz"), key=lambda p: p.stat().st_mtime, reverse=True)
+        os.replace(temporary, folder / f"state-{key}.npz")
+        entries = sorted(folder.glob("state-*.npz"), key=lambda p: p.stat().st_mtime, reverse=True)
         for stale in entries[MAX_ENTRIES:]:
             stale.unlink(missing_ok=True)
     except OSError:

@@ -39,7 +39,7 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     and any stitch wire at its given (horizontal) tension: like the wires' segments, the stitch
     wire's get the unstretched lengths that carry that tension in the form-found shape. Solved with IPOPT
     as one square system (see :func:`presag_opt.static.form_finding_solver.solve_form_finding`). With a cache
-    directory set (:func:`presag_opt.static.cache.use_cache`), a state form-found before for the
+    folder in the runtime in force (:attr:`presag_opt.runtime.Runtime.state_cache`), a state form-found before for the
     same catenary, settings and code is read back instead.
 
     Parameters

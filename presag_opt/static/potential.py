@@ -72,10 +72,6 @@ class PhysicalParameters:
     spring_reference: np.ndarray
     nodal_force: np.ndarray
 
-    def as_args(self) -> list[np.ndarray]:
-        """Values in the order of :data:`POTENTIAL_INPUTS` after ``x``."""
-        return [getattr(self, name) for name in POTENTIAL_INPUTS[1:]]
-
 
 def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX), and

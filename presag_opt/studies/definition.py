@@ -33,7 +33,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from presag_opt.contact_force import KMH
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
@@ -46,6 +45,7 @@ from presag_opt.system.catenary import Catenary
 from presag_opt.system.components import Provenance
 from presag_opt.system.loader import load_catenary, load_model_file, parse_quantity, parse_section, resolve_model_path
 from presag_opt.system.quantity import SI_UNIT, check_value, quantity, validate_fields
+from presag_opt.units import KMH
 
 STUDY_SECTIONS = ("study", "grid", "parameters", "numerics", "limits", "train")
 NUMERICS_KEYS = ("time_step", "scheme", "hht_alpha", "element_length", "analysed_spans", "lead_in_spans",

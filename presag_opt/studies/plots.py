@@ -9,14 +9,14 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib.pyplot as plt
+import matplotlib
 import numpy as np
 import xarray as xr
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.studies.validity_results import ValidityResult
-from presag_opt.style import legend_outside, new_figure, save_figure
+from presag_opt.style import legend_outside, new_figure, save_figure, styled
+from presag_opt.units import KMH
 
 MM = 1e3
 """Metres to millimetres, for axes. [mm/m]"""
@@ -56,7 +56,7 @@ def save_validity_plots(dataset: xr.Dataset, result: ValidityResult, folder: str
     ]
 
 
-def _grid(count: int) -> tuple[plt.Figure, np.ndarray]:
+def _grid(count: int) -> tuple[matplotlib.figure.Figure, np.ndarray]:
     """Panels in rows of up to four, with room for a legend right of them."""
     cols = min(count, 4)
     rows = math.ceil(count / cols)
@@ -66,11 +66,12 @@ def _grid(count: int) -> tuple[plt.Figure, np.ndarray]:
     return fig, axes
 
 
+@styled
 def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
     presags = ds["presag"].values
     fig, axes = _grid(len(presags))
     betas = ds["beta"].isel(presag=0).values
-    colours = plt.cm.viridis(np.linspace(0.0, 0.9, len(betas)))
+    colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, len(betas)))
     for i, (ax, s) in enumerate(zip(axes.flat, presags)):
         for j in np.argsort(betas):
             ax.plot(ds["F_m"].values[i, j], ds["sigma_over_F_m"].values[i, j], "o-", ms=3, color=colours[j],
@@ -86,6 +87,7 @@ def _fig6(ds: xr.Dataset, result: ValidityResult, path: Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def _fig7(result: ValidityResult, path: Path) -> Path:
     fig, axes = _grid(len(result.per_beta))
     for ax, verdict in zip(axes.flat, result.per_beta):
@@ -106,6 +108,7 @@ def _fig7(result: ValidityResult, path: Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def _fig8(result: ValidityResult, path: Path) -> Path:
     fig, axes = new_figure(1, 2, width=8.0, height=4.2, legend=True, sharey=True)
     presags = sorted({o.presag for o in result.force_optima})
@@ -124,6 +127,7 @@ def _fig8(result: ValidityResult, path: Path) -> Path:
     return save_figure(fig, path)
 
 
+@styled
 def _uplift(ds: xr.Dataset, path: Path) -> Path:
     fig, ax = new_figure(width=7.0, height=4.2, legend=True)
     betas = ds["beta"].isel(presag=0).values

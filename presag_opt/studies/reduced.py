@@ -18,13 +18,13 @@ from collections.abc import Callable, Sequence
 
 import xarray as xr
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition, StudyGrid
 from presag_opt.studies.store import assemble
-from presag_opt.studies.work import all_units, run_units, task_groups
+from presag_opt.studies.work import UnitRunner, all_units, task_groups
 from presag_opt.system.catenary import Catenary, SpanLayout
+from presag_opt.units import KMH
 
 REDUCED_SPANS = 5
 """Spans of a reduced study's section: one lead-in, one analysed span and room to run out. [-]"""
@@ -126,10 +126,11 @@ def run_in_process(definition: StudyDefinition, progress: Callable[[str], None] 
         As :func:`presag_opt.studies.store.open_store` would return it for this study.
     """
     results = []
+    runner = UnitRunner()
     for group in task_groups(all_units(definition)):
         if progress:
             s = definition.grid.presags[group[0].presag_index]
             kmh = ", ".join(f"{definition.grid.speeds[u.speed_index] / KMH:g}" for u in group)
             progress(f"S = {s * 1e3:g} mm at {kmh} km/h")
-        results += run_units(definition, group)
+        results += runner(definition, group)
     return assemble(definition, results)

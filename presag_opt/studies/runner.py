@@ -18,9 +18,10 @@ from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+from presag_opt import runtime
 from presag_opt.dynamics.cost import WorkEstimate
 from presag_opt.errors import ModelError
-from presag_opt.processes import WorkerPolicy, worker_pool
+from presag_opt.processes import WorkerPolicy, run_job, worker_pool
 from presag_opt.speed import check_speed_limit
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.store import (
@@ -36,9 +37,10 @@ from presag_opt.studies.store import (
 )
 from presag_opt.studies.work import (
     UnitResult,
+    UnitRunner,
     WorkUnit,
     all_units,
-    run_units,
+    run_on_cluster,
     task_groups,
 )
 
@@ -234,8 +236,8 @@ def _local_results(definition: StudyDefinition, pending: list[WorkUnit], workers
         return
     count = min(int(workers or os.cpu_count() or 1), len(pending))
     # An error or an interrupt drops the queued units and stops the workers (what is stored stays).
-    with worker_pool(count, WorkerPolicy.PICKLED) as pool:
-        futures = [pool.submit(run_units, definition, group) for group in task_groups(pending)]
+    with worker_pool(count, WorkerPolicy.PICKLED, job=UnitRunner()) as pool:
+        futures = [pool.submit(run_job, definition, group) for group in task_groups(pending)]
         for future in as_completed(futures):
             yield from future.result()
 
@@ -254,8 +256,9 @@ def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address:
     except (OSError, TimeoutError) as exc:
         raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
     with client:
-        scattered = client.scatter(definition, broadcast=True)
-        futures = [client.submit(run_units, scattered, group, pure=False) for group in task_groups(pending)]
+        scattered, runner = client.scatter([definition, UnitRunner()], broadcast=True)
+        futures = [client.submit(run_on_cluster, runner, runtime.current(), scattered, group, pure=False)
+                   for group in task_groups(pending)]
         try:
             for future in dask_completed(futures):
                 yield from future.result()

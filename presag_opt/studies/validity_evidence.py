@@ -16,11 +16,11 @@ import json
 import numpy as np
 import xarray as xr
 
-from presag_opt.contact_force import KMH
 from presag_opt.design.evidence import ValiditySweep
 from presag_opt.design.validity_limit import SweepLimit
 from presag_opt.errors import ModelError
 from presag_opt.studies.validity_results import ValidityResult
+from presag_opt.units import KMH
 
 
 def sweep_wave_speed(dataset: xr.Dataset) -> float:

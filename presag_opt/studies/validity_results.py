@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field
 
-from presag_opt.contact_force import KMH
+from presag_opt.units import KMH
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -3,9 +3,10 @@
 A unit is one (extra-parameter combination, pre-sag, speed), all static forces of the grid at that
 speed; it is what the store saves atomically. A task (:func:`task_groups`) is a few units of one
 pre-sag and parameter combination, run as one :func:`~presag_opt.dynamics.batch.simulate_many`
-batch on one form-found catenary. :func:`run_units` is the only function a worker runs, locally or on a Dask cluster; it depends on its arguments alone (the module-level cache only
-saves recomputing a form-found state) and returns a plain :class:`UnitResult` that the parent
-writes to disk.
+batch on one form-found catenary. :func:`run_units` is the only function a worker runs, locally or
+on a Dask cluster (through a :class:`UnitRunner`, whose memo keeps the worker's recent form-found
+states); its result depends on its arguments alone (the memo only saves recomputing a form-found
+state) and is a plain :class:`UnitResult` that the parent writes to disk.
 
 Besides the dynamic statistics, a unit computes the quasi-static pre-sag of the Δe and mid/mast
 rules at each run's nominal mean contact force F_m = F_stat + α_ae v², from the elasticity of the
@@ -16,8 +17,6 @@ the dynamic runs).
 from __future__ import annotations
 
 import math
-import threading
-from collections import OrderedDict
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
@@ -27,6 +26,8 @@ from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.processes import WorkerMemo
+from presag_opt.runtime import Runtime
 from presag_opt.speed import speed_ratio
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
@@ -35,14 +36,10 @@ from presag_opt.studies.definition import StudyDefinition
 from presag_opt.system.catenary import Catenary
 
 CACHE_SIZE = 4
-"""Form-found states a worker keeps: units arrive sorted by pre-sag, so a few suffice. [-]"""
+"""Form-found states a :class:`UnitRunner` keeps: units arrive sorted by pre-sag, so a few suffice. [-]"""
 
 RULE_METHODS = {"presag_delta_e": "delta-e", "presag_mid_mast": "mid-mast"}
 """Result field of each quasi-static rule, and the rule's method name in :mod:`presag_opt.design.quasi_static`."""
-
-_CACHE: OrderedDict[Any, tuple[EquilibriumState, SectionElasticity | str]] = OrderedDict()
-_CACHE_LOCK = threading.Lock()  # a Dask worker may run several units in threads
-
 
 @dataclass(frozen=True, kw_only=True, order=True)
 class WorkUnit:
@@ -197,7 +194,28 @@ def task_groups(units: list[WorkUnit], size: int = TASK_UNITS) -> list[list[Work
     return groups
 
 
-def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitResult]:
+class UnitRunner:
+    """The job of a study's workers: :func:`run_units` with a memo of the last :data:`CACHE_SIZE`
+    form-found states and their elasticity, kept from one task to the next of the worker that holds
+    it (it travels to a worker empty; see :class:`~presag_opt.processes.WorkerMemo`)."""
+
+    def __init__(self) -> None:
+        self.memo = WorkerMemo(CACHE_SIZE)
+
+    def __call__(self, definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitResult]:
+        return run_units(definition, units, self.memo)
+
+
+def run_on_cluster(runner: UnitRunner, settings: Runtime, definition: StudyDefinition,
+                   units: list[WorkUnit]) -> list[UnitResult]:
+    """A Dask task: ``runner(definition, units)`` in the runtime of the process that submitted it (a
+    Dask worker is not started by that process, so the runtime travels with each task; the runner is
+    scattered once per worker, so its memo serves all the tasks there)."""
+    with settings:
+        return runner(definition, units)
+
+
+def run_units(definition: StudyDefinition, units: list[WorkUnit], memo: WorkerMemo | None = None) -> list[UnitResult]:
     """Compute units of one pre-sag and parameter combination: all their speeds × static forces in
     one batch, and the quasi-static rules.
 
@@ -207,6 +225,9 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
         The study.
     units : list of WorkUnit
         Units sharing ``parameter_indices`` and ``presag_index``.
+    memo : WorkerMemo, optional
+        Form-found states and their elasticity kept between calls (a :class:`UnitRunner`'s); None:
+        each call form-finds afresh.
 
     Returns
     -------
@@ -231,7 +252,7 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
         groups: dict[Any, list[WorkUnit]] = {}
         for unit, static in zip(units, statics):
             groups.setdefault(static, []).append(unit)
-        done = {r.unit: r for group in groups.values() for r in run_units(definition, group)}
+        done = {r.unit: r for group in groups.values() for r in run_units(definition, group, memo)}
         return [done[u] for u in units]
     bases = [{"unit": u, "speed_ratio": speed_ratio(v, catenary.contact_wire.wave_speed)} for u, v in zip(units, speeds)]
 
@@ -243,7 +264,7 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitRe
                            failure=(reason,) * n, rule_failure=reason, trailing=trailing) for base in bases]
 
     try:
-        state, section = _form_found(definition, catenary, statics[0])
+        state, section = _form_found(definition, catenary, statics[0], memo or WorkerMemo(1))
     except Exception as exc:  # noqa: BLE001 - recorded as the reason: one unit must not stop a study
         return failed(f"form-finding: {failure_reason(exc)}")
     points = [OperatingPoint(speed=v, static_force=f, aero_coefficient=grid.aero_coefficient)
@@ -305,26 +326,22 @@ def _force_levels(definition: StudyDefinition) -> tuple[float, ...]:
 
 
 def _form_found(
-    definition: StudyDefinition, catenary: Catenary, static: StaticSettings
+    definition: StudyDefinition, catenary: Catenary, static: StaticSettings, memo: WorkerMemo
 ) -> tuple[EquilibriumState, SectionElasticity | str]:
     """The form-found state at the static settings ``static`` (the element length of the unit's
-    speeds) and its elasticity curves (or why they failed), cached in this process.
+    speeds) and its elasticity curves (or why they failed), kept in ``memo``.
 
     A failing form-finding raises (every run of the unit fails); failing elasticity only leaves the
     rules undefined, so its reason is returned in place of the curves.
     """
-    key = (catenary, static, _force_levels(definition))
-    with _CACHE_LOCK:
-        if key in _CACHE:
-            _CACHE.move_to_end(key)
-            return _CACHE[key]
-    state = form_find(catenary, static)
-    try:
-        section: SectionElasticity | str = section_elasticity(state, force_levels=key[2])
-    except (ConvergenceError, ModelError) as exc:
-        section = f"elasticity: {str(exc).splitlines()[0]}"
-    with _CACHE_LOCK:
-        _CACHE[key] = (state, section)
-        while len(_CACHE) > CACHE_SIZE:
-            _CACHE.popitem(last=False)
-    return state, section
+    levels = _force_levels(definition)
+
+    def compute() -> tuple[EquilibriumState, SectionElasticity | str]:
+        state = form_find(catenary, static)
+        try:
+            section: SectionElasticity | str = section_elasticity(state, force_levels=levels)
+        except (ConvergenceError, ModelError) as exc:
+            section = f"elasticity: {str(exc).splitlines()[0]}"
+        return state, section
+
+    return memo.get((catenary, static, levels), compute)

@@ -14,8 +14,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 #: Accepted spellings of each dimension's units, with their factor to SI.
 UNITS: dict[str, dict[str, float]] = {

@@ -26,7 +26,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import SimulationCase
 from presag_opt.dynamics.integrator import IntegratorSettings, integrate
@@ -38,6 +37,7 @@ from presag_opt.errors import ModelError
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
+from presag_opt.units import KMH
 
 CONSTANT_FORCE_PANTOGRAPH = Pantograph(
     name="constant force (no frame spring, no friction)",

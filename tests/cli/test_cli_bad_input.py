@@ -1,6 +1,6 @@
-"""The catalogue of bad and borderline input (issue 12): every case a user hit, run as the user runs it
-(the installed console script, from a folder outside the source tree), plus the matching Python API
-errors. Each case must end with a clear one-line reason, a documented warning, or the right result;
+"""The catalogue of bad and borderline input (issue 12): every case a user hit, run in-process from a
+folder outside the source tree (what only a real process shows, a closed pipe or Ctrl-C, runs the
+installed console script: tier e2e), plus the matching Python API errors. Each case must end with a clear one-line reason, a documented warning, or the right result;
 never a traceback, a hang without a word, or a silent wrong answer."""
 
 from __future__ import annotations
@@ -22,11 +22,6 @@ SCRIPT = Path(sys.executable).parent / "presag"
 REPOSITORY = Path(__file__).resolve().parents[2]
 
 
-def presag(*args: str, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=timeout)
-
-
 def one_error_line(result: subprocess.CompletedProcess) -> str:
     """The last line of standard error, after checking that the run failed cleanly with status 2."""
     assert result.returncode == 2, (result.returncode, result.stderr)
@@ -37,14 +32,14 @@ def one_error_line(result: subprocess.CompletedProcess) -> str:
 # ----- 1. progress ---------------------------------------------------------------------------------
 
 
-def test_progress_goes_to_stderr_and_json_stays_pure(tmp_path):
+def test_progress_goes_to_stderr_and_json_stays_pure(presag, tmp_path):
     result = presag("elasticity", "--forces", "100,150", "--step", "10", "--progress", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     json.loads(result.stdout)  # nothing but the JSON object on standard output
     assert "elasticity" in result.stderr and "2/2" in result.stderr
 
 
-def test_quiet_and_progress_exclude_each_other(tmp_path):
+def test_quiet_and_progress_exclude_each_other(presag, tmp_path):
     assert "at most one of --quiet and --progress" in one_error_line(
         presag("elasticity", "--quiet", "--progress", cwd=tmp_path))
 
@@ -52,14 +47,15 @@ def test_quiet_and_progress_exclude_each_other(tmp_path):
 # ----- 2. cache (the cache itself: tests/static/test_cache.py) ------------------------------------
 
 
-def test_cache_command_clears(tmp_path):
+def test_cache_command_clears(presag, tmp_path, monkeypatch):
     env_home = tmp_path / "home-cache"
-    run = subprocess.run([str(SCRIPT), "form-find", "--span", "1", "--json"], capture_output=True, text=True,
-                         cwd=tmp_path, env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=300)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(env_home))
+    run = presag("form-find", "--span", "1", "--json", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     assert len(list((env_home / "presag_opt").glob("state-*.npz"))) == 1
-    cleared = subprocess.run([str(SCRIPT), "cache", "--clear"], capture_output=True, text=True, cwd=tmp_path,
-                             env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=60)
+    shown = presag("cache", cwd=tmp_path).stdout
+    assert shown.startswith(f"cache {env_home / 'presag_opt'}: 1 state(s), ") and shown.endswith("; on\n")
+    cleared = presag("cache", "--clear", cwd=tmp_path)
     assert cleared.returncode == 0 and "removed 1 cached state" in cleared.stdout
     assert not list((env_home / "presag_opt").glob("state-*.npz"))
 
@@ -76,18 +72,20 @@ def test_fine_elements_say_how_long_and_ctrl_c_stops_cleanly(tmp_path):
     assert "form-finding" in first and "takes about" in first and "Ctrl-C" in first
     time.sleep(1.0)
     process.send_signal(signal.SIGINT)
-    out, err = process.communicate(timeout=60)
+    # the interrupt takes effect when the C-level model build returns control to Python (a minute on a
+    # busy machine): wait for the exit itself, the bound only keeps a hung process from hanging the run
+    out, err = process.communicate(timeout=900)
     assert process.returncode == 130
     assert err.strip().splitlines() == ["presag: interrupted"]
     assert out == ""
 
 
-def test_robust_design_beyond_the_model_range_is_refused(tmp_path):
+def test_robust_design_beyond_the_model_range_is_refused(presag, tmp_path):
     line = one_error_line(presag("robust", "--fm-band", "1:1000", cwd=tmp_path))
     assert "outside the model's valid range 0–5 ‰" in line
 
 
-def test_elasticity_beyond_the_system_height_carries_a_warning(tmp_path):
+def test_elasticity_beyond_the_system_height_carries_a_warning(presag, tmp_path):
     table = presag("elasticity", "--forces", "100,2000", "--step", "10", cwd=tmp_path)
     assert table.returncode == 0, table.stderr
     warning = [line for line in table.stdout.splitlines() if line.startswith("warning:")]
@@ -105,14 +103,14 @@ def test_elasticity_beyond_the_system_height_carries_a_warning(tmp_path):
     ("tolerance", "x.xyz", "unknown format '.xyz'"),
     ("elasticity", "some/", "is a folder"),
 ])
-def test_bad_plot_paths_are_refused_before_the_work(tmp_path, command, plot, words):
+def test_bad_plot_paths_are_refused_before_the_work(presag, tmp_path, command, plot, words):
     (tmp_path / "some").mkdir()
     line = one_error_line(presag(command, "--plot", plot, "--no-cache", cwd=tmp_path))
     assert words in line and line.startswith("presag: error: --plot")
     assert not list(tmp_path.glob("*.png")) and not list((tmp_path / "some").iterdir())
 
 
-def test_plot_without_suffix_reports_the_file_written(tmp_path):
+def test_plot_without_suffix_reports_the_file_written(presag, tmp_path):
     result = presag("elasticity", "--forces", "100", "--step", "5", "--plot", "name", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert (tmp_path / "name.png").is_file()
@@ -123,11 +121,12 @@ def test_plot_without_suffix_reports_the_file_written(tmp_path):
 
 
 @pytest.mark.parametrize("content", [b"\xff\xfe[\x00s\x00y\x00", bytes(range(256))])
-def test_model_file_that_is_not_utf8(tmp_path, content):
+def test_model_file_that_is_not_utf8(presag, tmp_path, content):
     (tmp_path / "model.toml").write_bytes(content)
     assert "not UTF-8 text" in one_error_line(presag("form-find", "model.toml", cwd=tmp_path))
 
 
+@pytest.mark.e2e
 def test_broken_pipe_ends_quietly(tmp_path):
     result = subprocess.run(f"'{SCRIPT}' elasticity --forces 100 --step 5 --json | head -c 10", shell=True,
                             capture_output=True, text=True, cwd=tmp_path, timeout=300)
@@ -171,7 +170,7 @@ def test_linear_elasticity_counts_spans_from_zero_in_argument_and_message(st98):
     (["elasticity", "--forces", "50:100"], "list of values A,B,C"),
     (["tolerance", "--within", "ten"], "write a percentage such as 10"),
 ])
-def test_the_other_syntax_gets_a_hint(tmp_path, args, words):
+def test_the_other_syntax_gets_a_hint(presag, tmp_path, args, words):
     assert words in one_error_line(presag(*args, cwd=tmp_path))
 
 
@@ -181,7 +180,7 @@ def test_within_is_a_percentage_with_or_without_the_sign():
     assert parse_within("10") == parse_within("10%") == pytest.approx(0.10)
 
 
-def test_version_and_grammar_in_help(tmp_path):
+def test_version_and_grammar_in_help(presag, tmp_path):
     version = presag("--version", cwd=tmp_path)
     assert version.returncode == 0 and version.stdout.startswith("presag ")
     assert "LOW:HIGH" in presag("--help", cwd=tmp_path).stdout
@@ -237,20 +236,20 @@ SHORT_SPANS = REPOSITORY / "tests" / "robust" / "models" / "st_9.8_six_short_spa
     (["--grid-points", "4"], "--grid-points 4: give two whole numbers"),
     (["--shape", "per-dropper"], "--shape per-dropper is an option of the quasi-static design"),
 ])
-def test_dynamic_design_refuses_bad_input_before_any_work(tmp_path, args, words):
+def test_dynamic_design_refuses_bad_input_before_any_work(presag, tmp_path, args, words):
     started = time.monotonic()
     line = one_error_line(presag("robust", "--dynamic", *args, "--no-cache", cwd=tmp_path))
     assert words in line, line
     assert time.monotonic() - started < 60  # refused at once, not after simulating
 
 
-def test_dynamic_options_need_dynamic(tmp_path):
+def test_dynamic_options_need_dynamic(presag, tmp_path):
     assert "--speed is an option of the dynamic design; add --dynamic" in one_error_line(
         presag("robust", "--speed", "50:90", cwd=tmp_path))
 
 
 @pytest.mark.slow
-def test_an_uplift_limit_no_presag_meets_names_the_smallest_uplift(tmp_path):
+def test_an_uplift_limit_no_presag_meets_names_the_smallest_uplift(presag, tmp_path):
     line = one_error_line(presag("robust", "--dynamic", str(SHORT_SPANS), "--static-force", "80:140", "--speed",
-                                 "120:140", "--grid-points", "2,2", "--uplift-limit", "20", cwd=tmp_path, timeout=900))
+                                 "120:140", "--grid-points", "2,2", "--uplift-limit", "20", cwd=tmp_path))
     assert "keeps the steady-arm uplift within the limit 20 mm over the band: the smallest uplift reached is" in line

@@ -1,4 +1,4 @@
-"""Command-line options no other default test reaches, run through the installed console script:
+"""Command-line options no other default test reaches, run in-process:
 ``recommend --per-span / --recompute / --elasticity-method newton``, ``robust --asymmetric`` and the
 ``generic_3mass`` pantograph model in ``simulate``."""
 
@@ -6,20 +6,12 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-SCRIPT = Path(sys.executable).parent / "presag"
 SHORT_MODEL = Path(__file__).parents[1] / "studies" / "models" / "st_9.8_short.toml"
-
-
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +29,7 @@ def mixed_model(tmp_path_factory) -> Path:
     return path
 
 
-def test_recommend_newton_and_recompute_match_the_library(mixed_model, tmp_path):
+def test_recommend_newton_and_recompute_match_the_library(presag, mixed_model, tmp_path):
     """``--elasticity-method newton --recompute --step 10``: the JSON equals the library's result with the
     same arguments (same code, deterministic: 1e-12), and differs from the active-set result, so the
     option reached the computation (the methods differ by 0.3–1.4 % in Δe at 100–150 N)."""
@@ -56,7 +48,7 @@ def test_recommend_newton_and_recompute_match_the_library(mixed_model, tmp_path)
     assert again["layouts"][0]["geometry_presag_rel_permille"] == pytest.approx(out["presag_rel_permille"], rel=1e-12)
 
 
-def test_recommend_per_span_table(mixed_model, tmp_path):
+def test_recommend_per_span_table(presag, mixed_model, tmp_path):
     run = presag("recommend", "--models", str(mixed_model), "--per-span", "--step", "5", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     table = run.stdout.split("Per span,")[1]
@@ -65,7 +57,7 @@ def test_recommend_per_span_table(mixed_model, tmp_path):
     assert [(r[0], r[1]) for r in rows] == [("2", "58.4"), ("3", "24.7"), ("4", "40.7")]
 
 
-def test_robust_asymmetric_per_dropper(tmp_path):
+def test_robust_asymmetric_per_dropper(presag, tmp_path):
     run = presag("robust", str(SHORT_MODEL), "--shape", "per-dropper", "--asymmetric", "--json", cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
@@ -79,7 +71,7 @@ def test_robust_asymmetric_per_dropper(tmp_path):
 
 
 @pytest.mark.slow  # keeps the default run under 5 minutes; the batch tests cover the same path
-def test_simulate_with_the_generic_three_mass_pantograph(tmp_path):
+def test_simulate_with_the_generic_three_mass_pantograph(presag, tmp_path):
     """The ``generic_3mass`` model runs; its mean contact force is the uplift force F_stat + α_ae v²
     within 2 % (as for the other pantographs in tests/dynamics/test_simulate.py)."""
     six_spans = tmp_path / "six.toml"  # the fewest spans for 2 analysed after 2 lead-in spans

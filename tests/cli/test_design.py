@@ -1,12 +1,10 @@
-"""``presag design`` as a user runs it (the installed console script, outside the source tree): the outputs
+"""``presag design`` (in-process, from a folder outside the source tree): the outputs
 with exactly their columns, the decision at the head, the design rules, and the survey's bad input."""
 
 from __future__ import annotations
 
 import csv
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -14,13 +12,7 @@ import pytest
 from presag_opt.report.line_report import DROPPER_COLUMNS, SPAN_COLUMNS
 from presag_opt.system.survey import COLUMNS
 
-SCRIPT = Path(sys.executable).parent / "presag"
 FAST = ("--element-length", "1.0", "--step", "2.0")
-
-
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
 
 
 def survey_file(folder: Path, rows: list[str], name: str = "line.csv") -> Path:
@@ -42,7 +34,7 @@ def line_rows(bridge_system_height: float = 1.2) -> list[str]:
 
 
 @pytest.fixture(scope="module")
-def designed(tmp_path_factory):
+def designed(presag, tmp_path_factory):
     folder = tmp_path_factory.mktemp("design")
     survey = survey_file(folder, line_rows(bridge_system_height=0.6))
     result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--max-speed", "160",
@@ -92,7 +84,7 @@ def test_a_lowered_wire_at_a_bridge_makes_droppers_too_short_and_the_design_says
     ("A3,60,300,5.5,1.2,,cantilever,A", "line.csv, row 4, column 'steady_arm': 'cantilever' is not a steady-arm type"),
     ("A3,60,300,5.5,1.2,80,pull-off,A", "line.csv, row 4, column 'curve_radius_m': 80 m is outside the valid range"),
 ])
-def test_bad_survey_values_end_with_one_line(tmp_path, row, expected):
+def test_bad_survey_values_end_with_one_line(presag, tmp_path, row, expected):
     rows = line_rows()
     rows[2] = row
     result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out", *FAST,
@@ -104,7 +96,7 @@ def test_bad_survey_values_end_with_one_line(tmp_path, row, expected):
     assert not (tmp_path / "out" / "droppers.csv").exists()  # nothing is computed from a table with an error
 
 
-def test_dynamic_check_simulates_the_worst_section_and_decides_again(tmp_path):
+def test_dynamic_check_simulates_the_worst_section_and_decides_again(presag, tmp_path):
     rows = [f"A{i + 1},{50 * i},{300 if i % 2 == 0 else -300},5.5,1.2,,pull-off,A" for i in range(7)]
     result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out",
                     "--dynamic-check", "--json", *FAST, cwd=tmp_path)
@@ -119,7 +111,7 @@ def test_dynamic_check_simulates_the_worst_section_and_decides_again(tmp_path):
     assert "id='dynamic'" in page and "σ/F_m" in page
 
 
-def test_a_band_at_or_above_the_en50119_speed_ratio_is_refused_before_any_work(tmp_path):
+def test_a_band_at_or_above_the_en50119_speed_ratio_is_refused_before_any_work(presag, tmp_path):
     """β ≥ 0.7 at the band's top speed: one line naming the speed, its β and the option that accepts it."""
     survey = survey_file(tmp_path, line_rows())
     result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--max-speed", "260",
@@ -131,7 +123,7 @@ def test_a_band_at_or_above_the_en50119_speed_ratio_is_refused_before_any_work(t
     assert not (tmp_path / "out").exists()
 
 
-def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(tmp_path):
+def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(presag, tmp_path):
     # One section of four 30 m spans with the wire lowered 0.3 m at masts B2-B3 (a bridge): --rule robust sizes
     # the inner spans 2 and 3 on their own (depths below the sloped support line), spans.csv gains each span's
     # tolerance interval (empty for the end spans, which take the mean), and the quasi-static robust design
@@ -158,7 +150,7 @@ def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(tmp_path)
     assert "S tolerance [mm]" in page and "— (section mean)" in page
 
 
-def test_within_belongs_to_the_robust_rule(tmp_path):
+def test_within_belongs_to_the_robust_rule(presag, tmp_path):
     survey = survey_file(tmp_path, [r for r in line_rows() if r.endswith(",A")])
     result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--within", "5", cwd=tmp_path)
     assert result.returncode == 2 and "--within is an option of --rule robust" in result.stderr

@@ -1,30 +1,21 @@
-"""``presag empirical`` and ``presag recommend`` run as a user runs them (a fresh process each)."""
+"""``presag empirical`` and ``presag recommend`` (in-process)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 
-def presag(*args, timeout=120):
-    """Run ``python -m presag_opt.cli ARGS``; return the completed process (text output)."""
-    return subprocess.run(
-        [sys.executable, "-m", "presag_opt.cli", *args], capture_output=True, text=True, timeout=timeout, check=False
-    )
-
-
 @pytest.fixture(scope="module")
-def case_study_json():
+def case_study_json(presag):
     """``presag recommend --json`` with no other arguments: the paper's case study."""
     run = presag("recommend", "--json")
     assert run.returncode == 0, run.stderr
     return json.loads(run.stdout)
 
 
-def test_empirical_json_reproduces_table1():
+def test_empirical_json_reproduces_table1(presag):
     run = presag("empirical", "--tension", "9.8/9.8", "--span", "60", "--static-force", "140", "--json")
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
@@ -33,7 +24,7 @@ def test_empirical_json_reproduces_table1():
     assert out["e_mid_mm_per_N"] == pytest.approx(60.0 / (4 * 19.6e3) * 1e3, rel=1e-12)  # eq. 1, exact arithmetic
 
 
-def test_empirical_table_output():
+def test_empirical_table_output(presag):
     run = presag("empirical", "--tension", "7.1/7.1")
     assert run.returncode == 0, run.stderr
     assert "e_mid 1.056 mm/N, S 74–104 mm, S_rel 1.23–1.73 ‰" in run.stdout
@@ -52,8 +43,8 @@ def test_empirical_table_output():
         (["recommend", "--force-levels", "100,150"], "do not cover the mean-force band"),
     ],
 )
-def test_bad_input_gives_one_line_and_exit_2(args, message):
-    run = presag(*args, timeout=30)
+def test_bad_input_gives_one_line_and_exit_2(presag, args, message):
+    run = presag(*args)
     assert run.returncode == 2
     assert run.stdout == ""
     lines = run.stderr.strip().splitlines()
@@ -76,7 +67,7 @@ def test_recommend_json_has_the_documented_keys(case_study_json):
     assert len(out["layouts"][1]["spans"]) == 29  # 31 spans less the two end spans
 
 
-def test_recommend_table_and_plot(tmp_path):
+def test_recommend_table_and_plot(presag, tmp_path):
     fig5a = tmp_path / "fig5a.png"
     run = presag("recommend", "--models", "st_9.8_ideal", "--method", "mid-mast", "--plot", str(fig5a))
     assert run.returncode == 0, run.stderr
@@ -86,7 +77,7 @@ def test_recommend_table_and_plot(tmp_path):
 
 
 @pytest.mark.slow
-def test_recommend_compare_paper(tmp_path):
+def test_recommend_compare_paper(presag, tmp_path):
     fig5b = tmp_path / "fig5b.png"
     run = presag("recommend", "--compare-paper", "--plot-single-curve", str(fig5b), "--json")
     assert run.returncode == 0, run.stderr

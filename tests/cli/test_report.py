@@ -3,17 +3,13 @@ writes is tested in ``tests/report/`` (written once there by the ``case_study_re
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pytest
 
 from presag_opt.cli import main
 
 
-def test_bad_input_on_the_command_line_is_one_line(tmp_path):
-    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", "no_such_model", "--out", "r"],
-                            capture_output=True, text=True, cwd=tmp_path, timeout=120)
+def test_bad_input_on_the_command_line_is_one_line(presag, tmp_path):
+    result = presag("report", "no_such_model", "--out", "r", cwd=tmp_path)
     assert result.returncode == 2 and "Traceback" not in result.stderr
     (line,) = result.stderr.strip().splitlines()
     assert line.startswith("presag: error: ") and "neither a file nor a built-in catenary model" in line

@@ -1,23 +1,14 @@
-"""``presag robust`` and ``presag tolerance`` run as a user would (installed script, outside the tree)."""
+"""``presag robust`` and ``presag tolerance`` (in-process, from a folder outside the source tree)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(sys.executable).parent / "presag"
 
-
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
-
-
-def test_robust_json_and_plot(tmp_path):
+def test_robust_json_and_plot(presag, tmp_path):
     result = presag("robust", "--json", "--plot", "r.png", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
@@ -32,13 +23,13 @@ def test_robust_json_and_plot(tmp_path):
     assert (tmp_path / "r.png").stat().st_size > 10_000
 
 
-def test_robust_per_dropper_cvar_table(tmp_path):
+def test_robust_per_dropper_cvar_table(presag, tmp_path):
     result = presag("robust", "--shape", "per-dropper", "--risk", "cvar:0.9", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "Dropper depths [mm]" in result.stdout and "cvar:0.90" in result.stdout
 
 
-def test_tolerance_json(tmp_path):
+def test_tolerance_json(presag, tmp_path):
     result = presag("tolerance", "--fm-band", "90:130", "--within", "5%", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
@@ -57,7 +48,7 @@ def test_tolerance_json(tmp_path):
     (["tolerance", "--within", "abc"], "--within"),
     (["robust", "--shape", "per-dropper", "--step-mm", "2"], None),
 ])
-def test_bad_arguments(tmp_path, args, words):
+def test_bad_arguments(presag, tmp_path, args, words):
     result = presag(*args, cwd=tmp_path)
     if words is None:  # a valid call, as a control
         assert result.returncode == 0, result.stderr
@@ -71,7 +62,7 @@ SHORT_SPANS = Path(__file__).parents[1] / "robust" / "models" / "st_9.8_six_shor
 
 
 @pytest.mark.slow
-def test_robust_dynamic_json_table_and_plot(tmp_path):
+def test_robust_dynamic_json_table_and_plot(presag, tmp_path):
     args = ("robust", "--dynamic", str(SHORT_SPANS), "--static-force", "80:140", "--speed", "120:140",
             "--grid-points", "2,2")
     result = presag(*args, "--json", "--plot", "d.png", cwd=tmp_path)
@@ -102,7 +93,8 @@ def test_robust_dynamic_json_table_and_plot(tmp_path):
 SHORT_MODEL = Path(__file__).parents[1] / "studies" / "models" / "st_9.8_short.toml"
 
 
-def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
+@pytest.mark.slow  # three designs simulated at 160 km/h; the check itself: tests/robust/test_dynamic_check.py
+def test_robust_per_dropper_with_a_dynamic_check(presag, tmp_path):
     """``--check-speeds``: the nominal Δe design, the parabola of the LP and the per-dropper profile
     built into the catenary, simulated at 105 N and 160 km/h (β 0.46, above the quasi-static limit),
     in the JSON. (The split of the runs by regime is ``tests/robust/test_dynamic_check.py``'s.)"""
@@ -129,7 +121,7 @@ def test_robust_per_dropper_with_a_dynamic_check(tmp_path):
     (("--dynamic", "--check-speeds", "90"), "--check-speeds is an option of the quasi-static design"),
     (("--pantograph", "case_study_2mass_friction"), "add --dynamic"),
 ])
-def test_dynamic_check_bad_options(tmp_path, args, words):
+def test_dynamic_check_bad_options(presag, tmp_path, args, words):
     result = presag("robust", *args, cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     assert "Traceback" not in result.stderr and words in result.stderr.strip().splitlines()[-1]

@@ -1,11 +1,9 @@
-"""``presag robust --dynamic --pantograph A,B`` (the fleet design): its input checks, before any work,
-through the installed console script. The design itself is tested at the API (tests/robust/test_fleet.py)."""
+"""``presag robust --dynamic --pantograph A,B`` (the fleet design): its input checks, before any work
+(in-process). The design itself is tested at the API (tests/robust/test_fleet.py)."""
 
 from __future__ import annotations
 
 import pytest
-
-from tests.cli.test_tolerance_mc import presag
 
 
 @pytest.mark.parametrize(
@@ -19,14 +17,14 @@ from tests.cli.test_tolerance_mc import presag
         (["--pantograph", "case_study_2mass_friction,en50318_2mass", "--plot", "f.png"], "--plot is not drawn for a fleet"),
     ],
 )
-def test_bad_fleet_input_is_one_line(tmp_path, args, message):
+def test_bad_fleet_input_is_one_line(presag, tmp_path, args, message):
     result = presag("robust", "--dynamic", *args, cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], result.stderr
 
 
-def test_fleet_options_need_dynamic(tmp_path):
+def test_fleet_options_need_dynamic(presag, tmp_path):
     result = presag("robust", "--second-pantograph-at", "20", cwd=tmp_path)
     assert result.returncode == 2
     assert "--second-pantograph-at is an option of the dynamic design; add --dynamic" in result.stderr

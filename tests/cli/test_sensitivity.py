@@ -1,24 +1,16 @@
-"""``presag sensitivity`` run as a user would (installed script), on a tiny case (four 30 m spans)."""
+"""``presag sensitivity`` (in-process), on a tiny case (four 30 m spans)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(sys.executable).parent / "presag"
 TINY = Path(__file__).parent / "models" / "tiny_case.toml"
 
 
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600, check=False)
-
-
-def test_morris_on_the_robust_output_json_plot_and_cost_announcement(tmp_path):
+def test_morris_on_the_robust_output_json_plot_and_cost_announcement(presag, tmp_path):
     args = ("sensitivity", str(TINY), "--quantity", "robust", "--inputs",
             "catenary.system_height,operation.aero_coefficient", "--samples", "2", "--seed", "3", "--json")
     result = presag(*args, "--plot", "figs", cwd=tmp_path)
@@ -62,7 +54,7 @@ BAD = [
 
 
 @pytest.mark.parametrize("args,words", BAD, ids=[b[1][0] for b in BAD])
-def test_bad_input_ends_with_one_line(tmp_path, args, words):
+def test_bad_input_ends_with_one_line(presag, tmp_path, args, words):
     result = presag("sensitivity", str(TINY), *args, cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()

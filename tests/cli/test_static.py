@@ -1,31 +1,20 @@
-"""``presag form-find`` and ``presag elasticity`` run as a user would: the installed console script,
-from a directory outside the source tree (so the installed package and its built-in models are used)."""
+"""``presag form-find`` and ``presag elasticity`` (in-process, from a folder outside the source tree)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(sys.executable).parent / "presag"
 
-
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=300)
-
-
-def test_form_find_prints_the_dropper_schedule(tmp_path):
+def test_form_find_prints_the_dropper_schedule(presag, tmp_path):
     result = presag("form-find", "st_9.8_ideal", "--span", "6", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "Dropper schedule" in result.stdout
     assert result.stdout.count("\n   6 ") == 7  # seven droppers in span 6
 
 
-def test_form_find_json(tmp_path):
+def test_form_find_json(presag, tmp_path):
     result = presag("form-find", "st_9.8_ideal", "--span", "6", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
@@ -37,7 +26,7 @@ def test_form_find_json(tmp_path):
     assert len(data["steady_arms"]) == 11
 
 
-def test_elasticity_json_has_the_documented_keys(tmp_path):
+def test_elasticity_json_has_the_documented_keys(presag, tmp_path):
     result = presag("elasticity", "st_9.8_ideal", "--forces", "100", "--step", "2", "--linear", "--json", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
@@ -51,7 +40,7 @@ def test_elasticity_json_has_the_documented_keys(tmp_path):
         assert 0.9 * 0.765 < curve["e_mid_mm_per_N"] < 1.4 * 0.765
 
 
-def test_elasticity_table_and_plot(tmp_path):
+def test_elasticity_table_and_plot(presag, tmp_path):
     result = presag("elasticity", "--forces", "100", "--step", "3", "--plot", "curves.png", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "e_mid" in result.stdout and "100" in result.stdout
@@ -63,7 +52,7 @@ def test_elasticity_table_and_plot(tmp_path):
     (["elasticity", "--forces", "-5"], "force = -5 N"),
     (["form-find", "no_such_model"], "no_such_model"),
 ])
-def test_bad_arguments_end_with_one_line_and_status_2(tmp_path, args, words):
+def test_bad_arguments_end_with_one_line_and_status_2(presag, tmp_path, args, words):
     result = presag(*args, cwd=tmp_path)
     assert result.returncode == 2
     assert "Traceback" not in result.stderr

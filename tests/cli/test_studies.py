@@ -5,17 +5,11 @@ is tested beside those stores, in ``tests/studies/test_validity_analysis.py``; a
 
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
 from presag_opt.cli import main
 from presag_opt.cli.studies import _selection
 from presag_opt.errors import ModelError
-
-PRESAG = Path(sys.executable).parent / "presag"
 
 
 def test_select_reads_name_equals_value_in_si():
@@ -38,9 +32,8 @@ def test_a_sweep_onto_a_folder_is_refused_before_the_study_runs(tmp_path, capsys
     assert captured.err == f"presag: error: {tmp_path}: is a folder; give a file name such as {tmp_path / 'study.nc'}\n"
 
 
-def test_validity_of_a_missing_store_is_one_line(tmp_path):
-    proc = subprocess.run([str(PRESAG), "validity", str(tmp_path / "none.nc"), "--json"], capture_output=True,
-                          text=True, timeout=120)
+def test_validity_of_a_missing_store_is_one_line(presag, tmp_path):
+    proc = presag("validity", str(tmp_path / "none.nc"), "--json")
     assert proc.returncode == 2 and proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and "no such study store" in proc.stderr
 

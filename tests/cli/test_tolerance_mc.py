@@ -1,23 +1,13 @@
-"""``presag tolerance --monte-carlo`` run as a user would (installed console script, outside the tree)."""
+"""``presag tolerance --monte-carlo`` (in-process, from a folder outside the source tree)."""
 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
-SCRIPT = Path(sys.executable).parent / "presag"
 
-
-def presag(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    assert SCRIPT.exists(), f"the presag console script is not installed next to {sys.executable}"
-    return subprocess.run([str(SCRIPT), *args], capture_output=True, text=True, cwd=cwd, timeout=600)
-
-
-def test_monte_carlo_json_and_plot(tmp_path):
+def test_monte_carlo_json_and_plot(presag, tmp_path):
     result = presag("tolerance", "--monte-carlo", "--dropper-error", "5", "--height-error", "2", "--samples", "3000",
                     "--seed", "4", "--json", "--plot", "mc.png", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -36,7 +26,7 @@ def test_monte_carlo_json_and_plot(tmp_path):
     assert (tmp_path / "mc.png").stat().st_size > 10_000
 
 
-def test_error_free_and_seeded_runs(tmp_path):
+def test_error_free_and_seeded_runs(presag, tmp_path):
     zero = json.loads(presag("tolerance", "--monte-carlo", "--dropper-error", "0", "--samples", "50", "--json",
                              cwd=tmp_path).stdout)
     assert zero["p99"]["value"] == zero["p50"]["value"] == zero["nominal_worst_case"]
@@ -45,7 +35,7 @@ def test_error_free_and_seeded_runs(tmp_path):
     assert runs[0] == runs[1]
 
 
-def test_find_dropper_tolerance_table(tmp_path):
+def test_find_dropper_tolerance_table(presag, tmp_path):
     result = presag("tolerance", "--monte-carlo", "--find-dropper-tolerance", "--within", "10", "--samples", "2000",
                     cwd=tmp_path)
     assert result.returncode == 0, result.stderr
@@ -68,7 +58,7 @@ def test_find_dropper_tolerance_table(tmp_path):
          "--out no/such/folder: the folder no/such does not exist"),
     ],
 )
-def test_bad_input_is_one_line(tmp_path, args, message):
+def test_bad_input_is_one_line(presag, tmp_path, args, message):
     result = presag("tolerance", *args, cwd=tmp_path)
     assert result.returncode == 2
     lines = result.stderr.strip().splitlines()

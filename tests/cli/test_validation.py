@@ -3,20 +3,14 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
+
+import pytest
 
 from presag_opt.validation import EN50318_RANGES
 
 
-def presag(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
-    """Run ``python -m presag_opt.cli ARGS``; return the completed process (text output)."""
-    return subprocess.run(
-        [sys.executable, "-m", "presag_opt.cli", *args], capture_output=True, text=True, timeout=timeout, check=False
-    )
-
-
-def test_en50318_json_gives_a_verdict_per_published_statistic():
+@pytest.mark.slow  # the reference case simulated at 250 km/h on its ten spans
+def test_en50318_json_gives_a_verdict_per_published_statistic(presag):
     """At 250 km/h on the default discretisation F_m, the extremes, the uplift and the loss of contact
     are inside their ranges (σ, 26.2 N against 26–31 N, is the tight one; see the dynamics tests)."""
     result = presag("en50318", "--speed", "250", "--json")
@@ -28,8 +22,8 @@ def test_en50318_json_gives_a_verdict_per_published_statistic():
         assert verdicts[key]["inside"], verdicts[key]
 
 
-def test_en50318_refuses_a_speed_without_published_ranges_before_simulating():
-    result = presag("en50318", "--speed", "250,200", timeout=60)
+def test_en50318_refuses_a_speed_without_published_ranges_before_simulating(presag):
+    result = presag("en50318", "--speed", "250,200")
     assert result.returncode == 2
     assert "speed = 200 km/h has no EN 50318 reference ranges; give one of 250, 300 km/h" in result.stderr
     assert "simulating" not in result.stderr

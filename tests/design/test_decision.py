@@ -6,7 +6,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.design.decision import (
     DELTA_E_RULE,
     DYNAMIC_ROBUST,
@@ -24,6 +23,7 @@ from presag_opt.design.evidence import (
     crew_tolerance,
 )
 from presag_opt.design.validity_limit import SweepLimit
+from presag_opt.units import KMH
 
 SPAN = 60.0
 C_KMH = 344.5  # the case study's contact-wire wave speed, in km/h

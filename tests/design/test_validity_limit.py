@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.design.validity_limit import (
     PAPER,
     SweepLimit,
@@ -14,6 +13,7 @@ from presag_opt.design.validity_limit import (
 )
 from presag_opt.errors import ModelError
 from presag_opt.system.loader import load_catenary
+from presag_opt.units import KMH
 
 C = 100.0  # a contact wire of 100 m/s (360 km/h): β = v/100
 

@@ -2,7 +2,7 @@
 checked (``-W --keep-going -n``), every local link of the built pages resolving to a file and, where it
 names one, an anchor, and the site in a real headless Chromium, served over local HTTP: no console errors on
 the main pages, and the search page finding a known word. One file, so that the site is built once per test run
-(pytest-xdist hands out whole files).
+(pytest-xdist hands out whole files); tier docs, but for the link check's own test.
 
 The notebooks are rendered without outputs here: executing them again would double the suite's
 longest tests (``tests/notebooks/`` runs each in fast mode); ``PRESAG_DOCS_EXECUTE=1`` builds the site
@@ -90,6 +90,7 @@ def local_link_problems(root: Path) -> list[str]:
     return problems
 
 
+@pytest.mark.docs
 def test_the_site_has_every_part(site):
     for page in ("index.html", "getting_started.html", "guide/index.html", "guide/physics.html",
                  "reference/cli.html", "reference/glossary.html", "reference/validation.html", "api/index.html",
@@ -101,6 +102,7 @@ def test_the_site_has_every_part(site):
     assert {p.stem for p in (DOCS.parent / "notebooks").glob("*.ipynb")} == notebooks
 
 
+@pytest.mark.docs
 def test_the_cli_reference_lists_every_verb_and_option(site):
     sys.path.insert(0, str(DOCS / "_ext"))
     try:
@@ -116,6 +118,7 @@ def test_the_cli_reference_lists_every_verb_and_option(site):
             assert option.names.split(", ")[-1] in page, (command.name, option.names)
 
 
+@pytest.mark.docs
 def test_every_local_link_resolves(site):
     problems = local_link_problems(site)
     assert not problems, "\n".join(problems)
@@ -150,9 +153,12 @@ def served(site):
 
 
 def _open(chromium, url: str) -> None:
+    """Open a page and wait until its network has been idle (the browser's ``networkIdle`` lifecycle
+    event of this navigation: every request the page made, the late ones included, has been answered),
+    so that every console entry it causes is in :attr:`Chromium.events` when this returns."""
     chromium.events.clear()
-    chromium.call("Page.navigate", session=True, url=url)
-    chromium.wait_for("Page.loadEventFired")
+    loader = chromium.call("Page.navigate", session=True, url=url)["loaderId"]
+    chromium.wait_for("Page.lifecycleEvent", lambda p: p["name"] == "networkIdle" and p["loaderId"] == loader)
 
 
 def _evaluate(chromium, expression: str):
@@ -162,9 +168,11 @@ def _evaluate(chromium, expression: str):
 SEARCH_HITS = "JSON.stringify([...document.querySelectorAll('#search-results li a')].map(a => a.textContent))"
 
 
+@pytest.mark.docs
 def test_the_site_opens_without_console_errors_and_its_search_finds_a_word(served, chromium, tmp_path):
     for domain in ("Page", "Runtime", "Log"):
         chromium.call(f"{domain}.enable", session=True)
+    chromium.call("Page.setLifecycleEventsEnabled", session=True, enabled=True)
     chromium.call("Emulation.setDeviceMetricsOverride", session=True, width=1280, height=900, deviceScaleFactor=1,
                   mobile=False)
     errors = {}

@@ -9,12 +9,12 @@ from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import SpanLayout
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def case():
     return load_case("case_study_st98")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def short_state(case):
     """Form-found 5-span ST 9,8/9,8 section (one lead-in span each side of the analysed central span)."""
     catenary = case.catenary.with_layout(SpanLayout(span_lengths=(60.0,) * 5, label="5 ideal spans"))

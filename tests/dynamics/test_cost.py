@@ -11,7 +11,6 @@ from presag_opt.dynamics.pantograph import load_pantograph
 from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
-from presag_opt.static import cache
 from presag_opt.static.run_time import form_find_estimate
 from presag_opt.system.loader import load_catenary
 
@@ -20,12 +19,10 @@ PANTOGRAPH = load_pantograph("case_study_2mass_friction")
 
 
 @pytest.fixture
-def no_cache():
+def no_cache(test_runtime):
     """No form-finding cache: every form-finding is counted at its full estimated time."""
-    previous = cache.active_directory()
-    cache.use_cache(None)
-    yield
-    cache.use_cache(previous)
+    with test_runtime.replace(state_cache=None):
+        yield
 
 
 @pytest.mark.parametrize(("seconds", "text"), [(0.4, "0 s"), (89.4, "89 s"), (90.0, "2 min"), (5399.0, "90 min"),

@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import presag_opt
 from presag_opt.dynamics import kernel, laws
@@ -65,6 +66,7 @@ def test_the_kernel_depends_on_the_laws_and_every_kernel_file():
             "batch_update.py", "laws.py", "sweeps.py", "linearised.py"} <= files
 
 
+@pytest.mark.e2e  # three fresh processes on a copy of the package, one of them compiling the kernel
 def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path):
     shutil.copytree(PACKAGE, tmp_path / "presag_opt")  # __pycache__ included: the cache as warm as here
     (tmp_path / "models").symlink_to(PACKAGE.parent / "models")  # the model files, beside the package

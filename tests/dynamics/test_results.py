@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.results import BatchResult, RunOutcome
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.dynamics.statistics import contact_force_statistics
+from presag_opt.units import KMH
 
 TIME = np.arange(0.0, 4.0, 1e-3)
 POINT = OperatingPoint(speed=180 * KMH, static_force=120.0, aero_coefficient=0.00097 / KMH**2)

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.dynamics.numerics import numerics_for_speed
 from presag_opt.dynamics.settings import OperatingPoint, Operation, SimulationSettings
 from presag_opt.errors import ModelError
+from presag_opt.units import KMH
 
 
 def test_simulation_settings_are_validated():

@@ -79,22 +79,22 @@ def test_a_vector_and_a_single_column_keep_their_shape(problem):
                           banded.cholesky_solve(factor, rhs[:, :1], "numba")[:, 0])
 
 
-def test_auto_decides_from_the_problem_only(monkeypatch):
+def test_auto_decides_from_the_problem_and_the_runtime_only(test_runtime):
     assert banded.choose(10_000, banded.MANY_RIGHT_HAND_SIDES - 1) == "lapack"
     assert banded.choose(10_000, banded.MANY_RIGHT_HAND_SIDES) == "compiled"
     for _ in range(3):  # however many solves ran before: the same answer
         assert banded.choose(10, banded.MANY_RIGHT_HAND_SIDES) == "compiled"
-    monkeypatch.setenv(compiler.COMPILE_ENV_OFF, "1")
-    assert banded.choose(10_000, 120) == "lapack"  # 1.2e6 < NUMBA_WORK
-    assert banded.choose(20_000, 120) == "numba"  # 2.4e6 ≥ NUMBA_WORK
-    assert banded.choose(20_000, 120, "lapack") == "lapack"
+    with test_runtime.replace(compile=False):
+        assert banded.choose(10_000, 120) == "lapack"  # 1.2e6 < NUMBA_WORK
+        assert banded.choose(20_000, 120) == "numba"  # 2.4e6 ≥ NUMBA_WORK
+        assert banded.choose(20_000, 120, "lapack") == "lapack"
+    assert banded.choose(10, banded.MANY_RIGHT_HAND_SIDES) == "compiled"  # the runtime's choice ends with it
 
 
-def test_bad_backends_are_refused_in_one_line(monkeypatch):
+def test_bad_backends_are_refused_in_one_line(test_runtime):
     with pytest.raises(ModelError, match="backend = 'fast' is not one of auto, lapack, compiled, numba"):
         banded.choose(10, 20, "fast")
-    monkeypatch.setenv(compiler.COMPILE_ENV_OFF, "1")
-    with pytest.raises(ModelError, match="backend = 'compiled' needs the C library"):
+    with test_runtime.replace(compile=False), pytest.raises(ModelError, match="backend = 'compiled' needs the C library"):
         banded.choose(10, 20, "compiled")
 
 
@@ -121,11 +121,10 @@ def test_without_a_compiler_the_fallbacks_run(environment, tmp_path):
     assert not (tmp_path / "presag_opt" / "compiled").exists()  # nothing was built
 
 
-def test_an_edited_c_source_takes_effect(problem, tmp_path, monkeypatch):
+def test_an_edited_c_source_takes_effect(problem, tmp_path, test_runtime):
     """A copy of banded.c with one sign flipped (the forward sweep adds the band products instead of
     subtracting them) builds a new library through the build tool, and the solve follows the edit:
     it then solves M Lᵀ x = b with M = L with its off-diagonal entries negated."""
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     _, factor, rhs = problem
     source = banded.SOURCE.read_text()
     edited_path = tmp_path / "banded.c"
@@ -133,8 +132,9 @@ def test_an_edited_c_source_takes_effect(problem, tmp_path, monkeypatch):
     assert source.count(forward) == 2  # the forward sweep's, then the backward sweep's
     edited_path.write_text(source.replace(forward, forward.replace("-=", "+="), 1))
     edited = edited_path.read_text()
-    original_library = compiler.build("banded", source, banded.FLAGS)
-    edited_library = compiler.build("banded", edited, banded.FLAGS)
+    with test_runtime.replace(library_folder=tmp_path / "compiled"):
+        original_library = compiler.build("banded", source, banded.FLAGS)
+        edited_library = compiler.build("banded", edited, banded.FLAGS)
     assert original_library is not None and edited_library is not None
     assert original_library != edited_library  # keyed by the source text: the edit is a new library
 

@@ -7,18 +7,14 @@ import numpy as np
 import pytest
 
 from presag_opt.native import casadi_elements as compiled
-from presag_opt.native import compiler as native
 from presag_opt.static.equilibrium import lone_wire_state
 from presag_opt.static.potential import build_potential
 from presag_opt.system.components import Wire
 
 
-def _terms(state, monkeypatch, compile_off: bool):
-    if compile_off:
-        monkeypatch.setenv(compiled.COMPILE_ENV_OFF, "1")
-    else:
-        monkeypatch.delenv(compiled.COMPILE_ENV_OFF, raising=False)
-    functions = build_potential(state.discretisation)
+def _terms(state, runtime, compile_off: bool):
+    with runtime.replace(compile=not compile_off):
+        functions = build_potential(state.discretisation)
     # A displaced state, so that every element is stretched differently (and some droppers slack).
     rng = np.random.default_rng(1)
     x = state.positions.ravel() + 1e-3 * rng.standard_normal(state.positions.size)
@@ -27,13 +23,13 @@ def _terms(state, monkeypatch, compile_off: bool):
 
 
 @pytest.mark.parametrize("system", ["st98", "lone_wire"])
-def test_compiled_elements_equal_the_virtual_machine(system, st98, monkeypatch):
+def test_compiled_elements_equal_the_virtual_machine(system, st98, test_runtime):
     """Same expression graph, same operations, no fast-math: equal, not just close. The lone wire has
     fewer elements than a chunk (padding); the section has 2 481, not a multiple of the chunk."""
     state = st98 if system == "st98" else lone_wire_state(Wire(tension=10e3, mass_per_length=1.0, axial_stiffness=1e7), 30.0)
     assert compiled._library_of(compiled._FUNCTIONS["axial_element"]) is not None, "no compiled library was built"
-    fast = _terms(state, monkeypatch, compile_off=False)
-    plain = _terms(state, monkeypatch, compile_off=True)
+    fast = _terms(state, test_runtime, compile_off=False)
+    plain = _terms(state, test_runtime, compile_off=True)
     for a, b in zip(fast, plain):
         assert np.array_equal(a, b)
 
@@ -41,14 +37,8 @@ def test_compiled_elements_equal_the_virtual_machine(system, st98, monkeypatch):
 def test_without_a_compiler_the_virtual_machine_is_used(st98, monkeypatch):
     """No compiler on the path: no library, and the model still evaluates (CasADi's virtual machine)."""
     monkeypatch.setenv("CC", "/nonexistent/cc")
-    compiled._library.cache_clear()
-    native._build.cache_clear()
-    try:
-        assert compiled._library_of(compiled._FUNCTIONS["axial_element"]) is None
-        function, padded = compiled.element_map(compiled._FUNCTIONS["axial_element"], 10)
-        assert padded == 10 and function.size2_in(0) == 10
-        hess, grad = build_potential(st98.discretisation).hessian_values(st98.positions.ravel(), st98.params)
-        assert np.all(np.isfinite(hess)) and np.abs(grad).max() < 1e-3
-    finally:
-        compiled._library.cache_clear()
-        native._build.cache_clear()
+    assert compiled._library_of(compiled._FUNCTIONS["axial_element"]) is None
+    function, padded = compiled.element_map(compiled._FUNCTIONS["axial_element"], 10)
+    assert padded == 10 and function.size2_in(0) == 10
+    hess, grad = build_potential(st98.discretisation).hessian_values(st98.positions.ravel(), st98.params)
+    assert np.all(np.isfinite(hess)) and np.abs(grad).max() < 1e-3

@@ -52,11 +52,26 @@ def test_the_stamp_changes_with_the_called_file_only(tmp_path):
     assert jit.source_stamp(user.user.py_func) != before  # the user's own file did not change
 
 
-def test_the_locator_takes_kernel_functions_only(tmp_path):
+def test_a_kernel_function_has_its_own_cache_and_numba_is_left_as_it_was(tmp_path):
+    numba_locators = list(caching.CacheImpl._locator_classes)
     user = _two_files(tmp_path)
-    assert jit.DependencyLocator in caching.CacheImpl._locator_classes
-    locator = jit.DependencyLocator.from_function(user.user.py_func, user.__file__)
-    assert locator is not None and locator.get_source_stamp() == jit.source_stamp(user.user.py_func)
+    assert caching.CacheImpl._locator_classes == numba_locators  # no global patch of numba
+    assert jit.DependencyLocator not in numba_locators
+    assert isinstance(user.user._cache, jit.KernelCache)
+    locator = user.user._cache._impl.locator
+    assert isinstance(locator, jit.DependencyLocator)
+    assert locator.get_source_stamp() == jit.source_stamp(user.user.py_func)
     law = sys.modules["jit_helper_law"].law
-    assert jit.DependencyLocator.from_function(law.py_func, law.py_func.__code__.co_filename) is None
+    assert not isinstance(law._cache, jit.KernelCache)  # an inlined law has no cache of its own
     assert law.targetoptions.get("inline") == "always"
+
+
+def test_the_kernel_cache_is_written_and_read_back(tmp_path):
+    """Compiled once, the function's machine code is in the cache; a fresh dispatcher of the same
+    source loads it (a hit, no compilation), and its index is stamped with the dependencies' hash."""
+    user = _two_files(tmp_path)
+    assert user.user(1.0) == 3.0
+    assert sum(user.user.stats.cache_misses.values()) == 1
+    again = _two_files(tmp_path)  # the same files loaded again: a new dispatcher, the same cache
+    assert again.user(2.0) == 5.0
+    assert sum(again.user.stats.cache_hits.values()) == 1 and not sum(again.user.stats.cache_misses.values())

@@ -1,5 +1,10 @@
 """Notebook 07 (sensitivity to the assumed inputs) runs in fast mode and its headline holds."""
 
 
+import pytest
+
+pytestmark = pytest.mark.notebook
+
+
 def test_runs_in_fast_mode_and_its_headline_holds(run_notebook):
     run_notebook("07_sensitivity")

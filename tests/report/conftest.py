@@ -4,17 +4,14 @@ shared ``chromium`` fixture of ``tests/conftest.py``."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 
 @pytest.fixture(scope="session")
-def case_study_report(tmp_path_factory):
+def case_study_report(tmp_path_factory, presag):
     """``presag report --quick --json`` of the case study: (folder, summary printed)."""
     folder = tmp_path_factory.mktemp("report")
-    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", "report", "--out", str(folder), "--quick",
-                             "--json"], capture_output=True, text=True, timeout=600)
+    result = presag("report", "--out", str(folder), "--quick", "--json")
     assert result.returncode == 0, result.stderr
     return folder, json.loads(result.stdout)

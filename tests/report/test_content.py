@@ -1,7 +1,7 @@
 """The design report (``presag_opt.report.content``, written by ``presag_opt.report.html``): the content of
 the case-study report and the page in a real headless Chromium (no console errors, every figure
-loaded). One file, so that the report is written once per test run (pytest-xdist hands out whole
-files); the HTML pieces alone are tested in ``test_html.py``, the command's refusals in
+loaded; tier docs). One file, so that the report is written once per test run (pytest-xdist hands out
+whole files); the HTML pieces alone are tested in ``test_html.py``, the command's refusals in
 ``tests/cli/test_report.py``."""
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ FIGURES = """JSON.stringify([...document.querySelectorAll('figure')].map(f => {
 }))"""
 
 
+@pytest.mark.docs
 def test_report_renders_without_console_errors_and_every_figure_loads(case_study_report, chromium, tmp_path):
     folder, _ = case_study_report
     for domain in ("Page", "Runtime", "Log"):
@@ -54,11 +55,7 @@ def test_report_renders_without_console_errors_and_every_figure_loads(case_study
     shot = chromium.call("Page.captureScreenshot", session=True, format="png", captureBeyondViewport=True)
     (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))
 
-    errors = [e for e in chromium.events if
-              (e.get("method") == "Runtime.consoleAPICalled" and e["params"]["type"] in ("error", "assert"))
-              or e.get("method") == "Runtime.exceptionThrown"
-              or (e.get("method") == "Log.entryAdded" and e["params"]["entry"]["level"] == "error")]
-    assert not errors
+    assert not chromium.console_errors()
     assert {f["id"] for f in figures} == EXPECTED_FIGURES
     assert all(f["complete"] and f["width"] > 0 and f["height"] > 0 for f in figures), figures
     assert (tmp_path / "report.png").stat().st_size > 10_000  # a page was drawn, not an empty frame

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.report import html
+from presag_opt.units import KMH
 
 
 class _Decision:

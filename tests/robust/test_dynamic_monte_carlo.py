@@ -79,11 +79,11 @@ def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monke
     simulate = module._realisation_runs
     calls = []
 
-    def killed_after_one_task(*args):
+    def killed_after_one_task(*args, **kwargs):
         if calls:
             raise KeyboardInterrupt  # the user's Ctrl-C during the second task
         calls.append(args[6].samples)
-        return simulate(*args)
+        return simulate(*args, **kwargs)
 
     monkeypatch.setattr(module, "_realisation_runs", killed_after_one_task)
     with pytest.raises(KeyboardInterrupt):
@@ -91,7 +91,8 @@ def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monke
     assert (tmp_path / "nominal.json").exists() and not list(tmp_path.glob("realisation_*.json"))
 
     done = []
-    monkeypatch.setattr(module, "_realisation_runs", lambda *args: done.append(args[6].samples) or simulate(*args))
+    monkeypatch.setattr(module, "_realisation_runs",
+                        lambda *args, **kwargs: done.append(args[6].samples) or simulate(*args, **kwargs))
     resumed = _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
     assert done == [2, 1]  # the error-free run was read back, the realisations simulated
     assert sorted(p.name for p in tmp_path.glob("realisation_*.json")) == [f"realisation_{i:05d}.json" for i in range(3)]

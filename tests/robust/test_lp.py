@@ -26,16 +26,16 @@ def test_lp_optimum_equals_its_exact_reevaluation(path, scenarios):
     waviness re-evaluated exactly from the design; a wrong constraint in the LP would part them.
     Tolerance 1e-6 relative: Clarabel's default gap tolerances are 1e-8 (relative and absolute)."""
     design = robust_presag(path, scenarios)
-    problem = path._problems[("parabola", Risk().label, len(scenarios.forces), None)][0]
+    problem = path.problems["robust"][("parabola", Risk().label, len(scenarios.forces), None)][0]
     assert problem.value == pytest.approx(design.objective, rel=1e-6)
 
 
 def test_the_problem_is_dpp_and_reused(path, band):
     first = robust_presag(path, ForceScenarios.band(*band))
-    cached = dict(path._problems)
+    cached = dict(path.problems["robust"])
     narrow = robust_presag(path, ForceScenarios.band(band[0] + 20.0, band[1] - 20.0))
-    assert dict(path._problems).keys() == cached.keys()  # same problem object re-solved
-    problem = next(v[0] for k, v in path._problems.items() if k[0] == "parabola")
+    assert path.problems["robust"].keys() == cached.keys()  # same problem object re-solved
+    problem = next(v[0] for k, v in path.problems["robust"].items() if k[0] == "parabola")
     assert problem.is_dpp()
     assert narrow.worst_case_waviness <= first.worst_case_waviness  # a narrower band is easier
 

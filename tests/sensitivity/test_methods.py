@@ -145,9 +145,9 @@ def test_chunks_and_a_dask_cluster_give_the_rows_in_order():
     rows = morris_design(ISHIGAMI, 3, seed=1)
     one = evaluate_rows(ishigami, rows)
     done = []
-    chunked = evaluate_rows(ishigami, rows, chunk=5, workers=2, progress=lambda d, t: done.append((d, t)))
+    chunked = evaluate_rows(ishigami, rows, chunk=5, workers=2, progress=done.append)
     assert np.array_equal(chunked, one)
-    assert done[-1] == (len(rows), len(rows)) and len(done) == -(-len(rows) // 5)  # one call per chunk
+    assert done[-1] == f"evaluations: {len(rows)}/{len(rows)}" and len(done) == -(-len(rows) // 5)  # one per chunk
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
         on_dask = evaluate_rows(ishigami, rows, scheduler=cluster.scheduler_address, chunk=4)
     assert np.array_equal(on_dask, one)

@@ -12,13 +12,11 @@ REPOSITORY = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture
-def cache_folder(tmp_path):
-    from presag_opt.static import cache
-
+def cache_folder(tmp_path, test_runtime):
+    """A runtime whose form-finding cache is an empty folder of this test's."""
     folder = tmp_path / "cache"
-    cache.use_cache(folder)
-    yield folder
-    cache.use_cache(None)
+    with test_runtime.replace(state_cache=folder):
+        yield folder
 
 
 def _small_model(tmp_path: Path, height: float = 5.3) -> Path:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import pytest
 
-from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings, discretise
 from presag_opt.static.form_finding import form_find
 from presag_opt.static.run_time import FORM_FIND_SECONDS, form_find_estimate
@@ -21,12 +20,10 @@ def catenary():
 
 
 @pytest.fixture
-def no_cache():
-    """No form-finding cache, whatever an earlier test in this worker process turned on."""
-    previous = cache.active_directory()
-    cache.use_cache(None)
-    yield
-    cache.use_cache(previous)
+def no_cache(test_runtime):
+    """A runtime without the form-finding cache."""
+    with test_runtime.replace(state_cache=None):
+        yield
 
 
 def test_the_estimate_follows_the_fitted_law(catenary, no_cache):
@@ -38,12 +35,8 @@ def test_the_estimate_follows_the_fitted_law(catenary, no_cache):
     assert finer > 1.5 * nodes and finer_seconds > seconds  # half the element length: more nodes, more time
 
 
-def test_a_cached_state_costs_nothing(catenary, tmp_path):
-    previous = cache.active_directory()
-    cache.use_cache(tmp_path)
-    try:
+def test_a_cached_state_costs_nothing(catenary, tmp_path, test_runtime):
+    with test_runtime.replace(state_cache=tmp_path):
         assert form_find_estimate(catenary, COARSE)[1] > 0.0
         form_find(catenary, COARSE)
         assert form_find_estimate(catenary, COARSE)[1] == 0.0
-    finally:
-        cache.use_cache(previous)

@@ -99,6 +99,7 @@ def test_stitch_wire_between_rigid_clamps_is_a_taut_string(stitched):
         assert uz == pytest.approx(a * b / (tension * (a + b)), rel=0.005)
 
 
+@pytest.mark.slow  # a convergence study: three form-findings and curves down to 0.25 m elements
 def test_elasticity_converges_with_the_element_length():
     """e at the support, the stitch dropper, the first dropper and mid-span for 1, 0.5 and 0.25 m
     elements: each halving changes none by more than 0.5 % (measured 0.25 % and 0.33 %: the curve is

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.studies.definition import load_study
 from presag_opt.studies.runner import estimate_study
+from presag_opt.units import KMH
 
 STUDIES = Path(__file__).resolve().parents[2] / "models" / "studies"
 

@@ -41,6 +41,7 @@ def reference(study, tmp_path_factory) -> bytes:
     return path.read_bytes()
 
 
+@pytest.mark.e2e
 def test_a_dask_worker_killed_mid_study_changes_no_byte(study, reference, tmp_path):
     distributed = pytest.importorskip("distributed")
     store = tmp_path / "dask.nc"
@@ -90,7 +91,6 @@ def test_a_memory_error_inside_a_worker_fails_its_runs_and_the_study_goes_on(stu
         return real(*args, **kwargs)
 
     monkeypatch.setattr(work, "simulate_many", simulate_many)
-    work._CACHE.clear()
     store = tmp_path / "memory.nc"
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster:
@@ -105,6 +105,7 @@ def test_a_memory_error_inside_a_worker_fails_its_runs_and_the_study_goes_on(stu
     assert np.isnan(ds["sigma"].values[failed]).all() and np.isfinite(ds["sigma"].values[~failed]).all()
 
 
+@pytest.mark.e2e
 def test_two_sweeps_on_one_store_one_refuses_and_neither_corrupts_it(reference, tmp_path):
     out = tmp_path / "study.nc"
     command = [str(SCRIPT), "sweep", str(STUDY), "--out", str(out), "--workers", "1", "--quiet"]

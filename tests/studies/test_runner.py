@@ -75,6 +75,7 @@ def test_rerun_skips_finished_units_and_rewrites_the_same_store(small_study, ref
     assert_same_store(store, reference_store)
 
 
+@pytest.mark.e2e
 def test_sigkill_then_resume_with_another_worker_count_gives_the_uninterrupted_store(small_study_path, small_study, reference_store, tmp_path):
     store = tmp_path / "killed.nc"
     units = units_directory(store)
@@ -112,6 +113,7 @@ def test_sigkill_then_resume_with_another_worker_count_gives_the_uninterrupted_s
     assert_same_store(store, reference_store)
 
 
+@pytest.mark.e2e
 def test_dask_local_cluster_gives_the_same_store(small_study, reference_store, tmp_path):
     distributed = pytest.importorskip("distributed")
     store = tmp_path / "dask.nc"

@@ -1,7 +1,7 @@
 """Storage faults of a study store: one line each, nothing half-written, the study resumes.
 
 A full disk and a read-only folder are real: a 2 MB tmpfs is mounted for the module (root only; the
-tests that need it are skipped where mounting is not possible). A permission lost in the middle of
+tests that need it, tier e2e, are skipped where mounting is not possible). A permission lost in the middle of
 a study, and a full disk where tmpfs is not available, are injected as the ``OSError`` the write
 raises. Every resumed store is compared byte for byte with an undisturbed run of the same study.
 """
@@ -11,7 +11,6 @@ from __future__ import annotations
 import errno
 import os
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
@@ -23,7 +22,6 @@ from presag_opt.studies.definition import load_study
 from presag_opt.studies.runner import run_study
 from presag_opt.studies.store import units_directory
 
-SCRIPT = Path(sys.executable).parent / "presag"
 STUDY = Path(__file__).parent / "models" / "small_grid.toml"
 TMPFS_SIZE = 2 * 1024 * 1024
 """Size of the test file system. [B]"""
@@ -72,43 +70,44 @@ def _fill(folder: Path, leave: int) -> Path:
     return filler
 
 
-def _sweep(out: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([str(SCRIPT), "sweep", str(STUDY), "--out", str(out), "--workers", "2", "--quiet"],
-                          capture_output=True, text=True, timeout=300, check=False)
+def _sweep(presag, out: Path):
+    return presag("sweep", str(STUDY), "--out", str(out), "--workers", "2", "--quiet")
 
 
 def _partials(folder: Path) -> list[Path]:
     return [p for p in folder.rglob("*") if p.name.endswith(store_module.TEMPORARY_SUFFIX)]
 
 
-def _one_error_line(run: subprocess.CompletedProcess) -> str:
+def _one_error_line(run) -> str:
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1, run.stderr
     assert lines[0].startswith("presag: error: ")
     return lines[0]
 
 
-def test_a_full_disk_before_the_manifest_is_one_line_and_resumes(empty_tmpfs, reference):
+@pytest.mark.e2e  # mounts a real file system
+def test_a_full_disk_before_the_manifest_is_one_line_and_resumes(presag, empty_tmpfs, reference):
     out = empty_tmpfs / "study.nc"
     filler = _fill(empty_tmpfs, leave=0)
-    run = _sweep(out)
+    run = _sweep(presag, out)
     assert run.returncode == 4
     line = _one_error_line(run)
     assert "No space left on device; free some space, then run the same command again" in line
     assert not _partials(empty_tmpfs) and not out.exists()
     assert not (units_directory(out) / store_module.LOCK).exists()
     filler.unlink()
-    run = _sweep(out)
+    run = _sweep(presag, out)
     assert run.returncode == 0, run.stderr
     assert out.read_bytes() == reference
 
 
-def test_a_full_disk_at_the_store_keeps_the_units_and_resumes_without_recomputing(empty_tmpfs, reference):
+@pytest.mark.e2e  # mounts a real file system
+def test_a_full_disk_at_the_store_keeps_the_units_and_resumes_without_recomputing(presag, empty_tmpfs, reference):
     out = empty_tmpfs / "study.nc"
     # Room for the manifest, the lock and the four unit files (one 4 kB page each), not for the
     # store (about 30 kB).
     filler = _fill(empty_tmpfs, leave=7 * 4096)
-    run = _sweep(out)
+    run = _sweep(presag, out)
     assert run.returncode == 4
     assert f"{out}: No space left on device" in _one_error_line(run)
     assert not _partials(empty_tmpfs) and not out.exists()
@@ -119,26 +118,27 @@ def test_a_full_disk_at_the_store_keeps_the_units_and_resumes_without_recomputin
     assert out.read_bytes() == reference
 
 
-def test_a_read_only_folder_is_one_line(empty_tmpfs):
+@pytest.mark.e2e  # mounts a real file system
+def test_a_read_only_folder_is_one_line(presag, empty_tmpfs):
     subprocess.run(["mount", "-o", "remount,ro", str(empty_tmpfs)], check=True)
-    run = _sweep(empty_tmpfs / "study.nc")
+    run = _sweep(presag, empty_tmpfs / "study.nc")
     assert run.returncode == 4
     assert "Read-only file system; give a writable output path" in _one_error_line(run)
     assert not list(empty_tmpfs.iterdir())
 
 
-def test_a_file_where_the_units_folder_should_be_is_one_line(tmp_path):
+def test_a_file_where_the_units_folder_should_be_is_one_line(presag, tmp_path):
     out = tmp_path / "study.nc"
     units_directory(out).write_text("not a folder")
-    run = _sweep(out)
+    run = _sweep(presag, out)
     assert run.returncode == 4
     assert "a file is where a folder should be; move it or give another output path" in _one_error_line(run)
     assert units_directory(out).read_text() == "not a folder"
 
 
-def test_a_file_where_the_stores_folder_should_be_is_one_line(tmp_path):
+def test_a_file_where_the_stores_folder_should_be_is_one_line(presag, tmp_path):
     (tmp_path / "plain").write_text("x")
-    run = _sweep(tmp_path / "plain" / "study.nc")
+    run = _sweep(presag, tmp_path / "plain" / "study.nc")
     assert run.returncode == 2
     assert "plain is a file, not a folder" in _one_error_line(run)
 

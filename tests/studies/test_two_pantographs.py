@@ -9,7 +9,6 @@ import math
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyGrid, StudyTrain, load_study, study_from_dict
 from presag_opt.studies.reduced import run_in_process
@@ -17,6 +16,7 @@ from presag_opt.studies.store import TRAILING_VARIABLES
 from presag_opt.studies.validity_analysis import pantograph_view, validity_analysis
 from presag_opt.studies.work import UnitResult
 from presag_opt.system.catenary import SpanLayout
+from presag_opt.units import KMH
 
 LEADING_TOLERANCE = 0.04
 """Leading pantograph of a far-apart pair against the single one, relative σ: measured −1.9 % at
@@ -151,22 +151,16 @@ def test_the_leading_pantograph_equals_the_single_one_with_the_trailing_one_behi
     assert float(pair["trailing_sigma"].values.ravel()[0]) > 1.3 * one
 
 
-def test_presag_validity_reads_the_chosen_pantograph(close_pair, tmp_path):
+def test_presag_validity_reads_the_chosen_pantograph(presag, close_pair, tmp_path):
     import json
-    import subprocess
-    import sys
-    from pathlib import Path
 
     from presag_opt.studies.store import write_store
 
     store = tmp_path / "pair.nc"
     write_store(close_pair, store)
-    presag = Path(sys.executable).parent / "presag"
     for choice, expected in ((None, "trailing"), ("leading", "leading"), ("trailing", "trailing")):
-        command = [str(presag), "validity", str(store), "--json"] + ([] if choice is None else ["--pantograph", choice])
-        done = subprocess.run(command, capture_output=True, text=True, timeout=120)
+        done = presag("validity", str(store), "--json", *([] if choice is None else ["--pantograph", choice]))
         assert done.returncode == 0, done.stderr
         assert json.loads(done.stdout)["settings"]["pantograph"] == expected
-    done = subprocess.run([str(presag), "validity", str(store), "--pantograph", "rear"], capture_output=True,
-                          text=True, timeout=120)
+    done = presag("validity", str(store), "--pantograph", "rear")
     assert done.returncode != 0 and "invalid choice: 'rear'" in done.stderr

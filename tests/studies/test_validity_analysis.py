@@ -10,9 +10,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,7 +18,6 @@ from presag_opt.errors import ModelError
 from presag_opt.studies.store import write_store
 from presag_opt.studies.validity_analysis import NEAR_OPTIMAL_MARGIN, validity_analysis
 
-PRESAG = Path(sys.executable).parent / "presag"
 BETAS = [0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6]
 PRESAGS_MM = [20, 40, 60, 80, 100, 120]
 FORCES = [50, 65, 80, 95, 110, 125, 140, 155]
@@ -143,11 +139,10 @@ def test_extra_parameter_needs_a_selection(parabola):
     assert validity_analysis(ds, {name: 10.0}).beta_limit == pytest.approx(0.425, abs=1e-9)
 
 
-def test_cli_json_and_plots(parabola, tmp_path):
+def test_cli_json_and_plots(presag, parabola, tmp_path):
     store = tmp_path / "synthetic.nc"
     write_store(parabola, store)
-    proc = subprocess.run([str(PRESAG), "validity", str(store), "--json", "--plot", str(tmp_path / "plots")],
-                          capture_output=True, text=True, timeout=120)
+    proc = presag("validity", str(store), "--json", "--plot", str(tmp_path / "plots"))
     assert proc.returncode == 0, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["beta_limit"] == pytest.approx(0.425, abs=1e-9)
@@ -192,12 +187,12 @@ def test_scattered_optima_below_the_r2_threshold_are_no_fit(make_dataset):
     assert "below 0.8" in result.no_fit_reason or "ran to its bound" in result.no_fit_reason
 
 
-def test_cli_prints_no_fit_with_its_reason(make_dataset, tmp_path):
+def test_cli_prints_no_fit_with_its_reason(presag, make_dataset, tmp_path):
     ds = make_dataset(sigma=_shifted(lambda b: 0.015 if b > 0.58 else 0.0), presags_mm=PRESAGS_MM, betas=BETAS,
                       static_forces=FORCES, rule_mm=rule_mm)
     store = tmp_path / "step.nc"
     write_store(ds, store)
-    out = subprocess.run([str(PRESAG), "validity", str(store)], capture_output=True, text=True, timeout=120)
+    out = presag("validity", str(store))
     assert out.returncode == 0, out.stderr
     line = next(x for x in out.stdout.splitlines() if x.startswith("fit "))
     assert line.startswith("fit S_dyn = S_stat + k*beta^a: no fit (the exponent ran to its bound a = 20")

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.studies.validity_analysis import validity_analysis
 from presag_opt.studies.validity_evidence import sweep_reference_span, sweep_wave_speed, validity_sweep
 from presag_opt.system.loader import load_catenary
+from presag_opt.units import KMH
 
 BETAS = [0.1, 0.2, 0.3, 0.4, 0.45, 0.5]
 PRESAGS_MM = [20, 60, 100]

@@ -9,7 +9,6 @@ import math
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.studies.validity_results import (
     BetaVerdict,
     ForceOptimum,
@@ -19,6 +18,7 @@ from presag_opt.studies.validity_results import (
     UpliftCheck,
     ValidityResult,
 )
+from presag_opt.units import KMH
 
 BAND = PresagBand(static_force=120.0, mean_force=120.0, optimal=0.060, band_low=0.050, band_high=0.070, open_low=False,
                   open_high=False, benefit=True, presag_delta_e=0.065, presag_mid_mast=0.052)

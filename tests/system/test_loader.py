@@ -3,8 +3,6 @@ with a message that names the key, the value, the unit and the valid range."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
@@ -170,11 +168,9 @@ def test_unknown_model_name_lists_the_builtin_ones():
         load_catenary("st_9.9_ideal")
 
 
-def test_cli_reports_a_bad_model_in_one_line_without_traceback(tmp_path):
+def test_cli_reports_a_bad_model_in_one_line_without_traceback(presag, tmp_path):
     path = write(tmp_path, BASE.replace('value = 9.8, unit = "kN"', 'value = 0, unit = "kN"', 1))
-    result = subprocess.run(
-        [sys.executable, "-m", "presag_opt.cli", "form-find", str(path)], capture_output=True, text=True, timeout=120
-    )
+    result = presag("form-find", str(path))
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     lines = result.stderr.strip().splitlines()

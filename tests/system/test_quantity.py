@@ -7,7 +7,6 @@ import dataclasses
 
 import pytest
 
-from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.system.quantity import (
     DEFAULT_RANGE_SHARE,
@@ -21,6 +20,7 @@ from presag_opt.system.quantity import (
     to_si,
     validate_fields,
 )
+from presag_opt.units import KMH
 
 SPEC = {"dimension": "length", "display": "m", "factor": 1.0, "low": 0.0, "high": 1.0,
         "low_open": False, "high_open": False, "allow_none": False}

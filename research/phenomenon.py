@@ -1,8 +1,8 @@
 """Phenomenon check of the validity study: which assumed inputs does the σ/F_m minimum depend on?
 
-Run: python studies/phenomenon.py [--out DIR] [--workers N] [--only NAME,...]
+Run: python research/phenomenon.py [--out DIR] [--workers N] [--only NAME,...]
 
-For each study file ``studies/phenomenon/phenomenon_*.toml`` (one assumed input varied at a time at
+For each study file ``research/phenomenon/phenomenon_*.toml`` (one assumed input varied at a time at
 50 km/h, β ≈ 0.145, on the paper's pre-sag and static-force grid) it runs the study (resumable, into
 ``DIR``) and prints, per value of the varied input and per pre-sag S:
 

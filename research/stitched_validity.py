@@ -8,7 +8,7 @@ Run the three studies first (each resumable; about 5–15 min on 2 cores):
     nice -n 10 presag sweep models/studies/paper_grid_st98_stitched.toml --out STORES/grid_stitched.nc --workers 2
     nice -n 10 presag sweep models/studies/paper_grid_st98_stitched_high.toml --out STORES/grid_stitched_high.nc --workers 2
 
-then: python studies/stitched_validity.py STORES [--figure docs/stitched_validity.png]
+then: python research/stitched_validity.py STORES [--figure docs/stitched_validity.png]
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Dynamic check of the quasi-static robust designs against the nominal Δe design (case study), the
 per-dropper profile beside the parabola of the same linear program.
 
-Run: python studies/robust_dynamic.py
+Run: python research/robust_dynamic.py
 Designs from ``presag robust --shape per-dropper`` (ST 9,8/9,8 ideal, F_m 70–148 N, minimax, 5 mm
 construction step): its per-dropper profile (built into every span, :func:`design_catenary`), the
 minimax parabola of the same path model, and the nominal Δe rule at the band centre. Each is

@@ -1,6 +1,6 @@
 """β* of the Δe rule with two raised pantographs, beside one pantograph (issue 23, item 7).
 
-Run: python studies/two_pantographs.py [--grid small|paper] [--spacing M] [--out DIR] [--workers N]
+Run: python research/two_pantographs.py [--grid small|paper] [--spacing M] [--out DIR] [--workers N]
 
 The paper's grid (``paper_grid_st98``: ST 9,8/9,8 ideal 60 m spans, the case-study pantograph) on
 the 9 central spans with 1 m elements and 4 ms steps: ``--grid paper`` keeps its axes (5 pre-sags
@@ -22,12 +22,12 @@ import sys
 import time
 from pathlib import Path
 
-from presag_opt.contact_force import KMH
 from presag_opt.studies.definition import StudyTrain, load_study
 from presag_opt.studies.reduced import reduced_study
 from presag_opt.studies.runner import run_study
 from presag_opt.studies.store import open_store
 from presag_opt.studies.validity_analysis import validity_analysis
+from presag_opt.units import KMH
 
 PRESAGS = (0.030, 0.040, 0.050, 0.060, 0.070)
 SPEEDS = tuple(v * KMH for v in (60, 80, 100, 120, 140, 160, 180))

@@ -1,7 +1,7 @@
 """Where each pre-sag method holds (issue 10): the Δe rule, the quasi-static robust design and the
 dynamic robust design, compared by simulation on the case-study catenary.
 
-Run: python studies/dynamic_methods.py [--workers N] [--parts case,beta,high] [--out FILE.json]
+Run: python research/dynamic_methods.py [--workers N] [--parts case,beta,high] [--out FILE.json]
 
 ST 9,8/9,8 ideal spans, the case-study pantograph and analysis window (``case_study_st98``),
 F_stat 70–140 N, α_ae 0.00097 N/(km/h)², worst case of σ/F_m, uplift limit 83.5 mm, 4 × 3 points

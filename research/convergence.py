@@ -1,7 +1,7 @@
 """Convergence of σ in element length and time step against the speed ratio: the evidence behind
 the automatic numerics (:func:`presag_opt.dynamics.numerics.numerics_for_speed`).
 
-Run: python studies/convergence.py [--quick]
+Run: python research/convergence.py [--quick]
 
 For the EN 50318-style case (250, 300 km/h) and the case study (50, 90, 120, 180 km/h) it runs the
 batch engine on a ladder of element lengths (time step fixed at the finest value) and of time steps

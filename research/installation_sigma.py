@@ -1,5 +1,5 @@
 """Does the installed geometry alone carry the dynamic effect of dropper errors? (issue 23)
-Run: python studies/installation_sigma.py [--samples N]
+Run: python research/installation_sigma.py [--samples N]
 
 On the small fast band of ``tests/robust/test_dynamic_search.py`` (three 30 m spans of ST 9,8/9,8,
 140–150 km/h × F_stat 80–140 N, 2 × 2 points) and a 25 mm design, normal dropper errors σ = 5 mm:
