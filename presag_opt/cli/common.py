@@ -7,8 +7,7 @@ Helpers every sub-command uses (the grammar is documented once, in :data:`GRAMMA
 - :func:`add_run_options` adds ``--quiet``, ``--progress`` and ``--no-cache`` to a sub-command;
 - :func:`progress` gives the one progress display (tqdm on standard error) for long work;
 - :func:`band` and :func:`float_list` parse ``LOW:HIGH`` bands and ``A,B,C`` lists;
-- :func:`output_path` checks a ``--plot`` file before any work starts, :func:`output_folder` an
-  output folder (``presag report --out``);
+- :func:`output_folder` checks an output folder (``--out``, ``--plot``) before any work starts;
 - :func:`form_find_for` form-finds, saying beforehand when it will take long;
 - :func:`model_help` is the help line of a model argument, listing the built-in models;
 - :func:`print_warnings` prints the one-line warnings of a result; every warning the package raises
@@ -319,39 +318,6 @@ def band(text: str) -> tuple[float, float]:
         raise argparse.ArgumentTypeError(f"{text!r}: a band is written LOW:HIGH, e.g. 70:148")
     low, high = (positive_float(p) for p in (parts * 2)[:2])
     return low, high
-
-
-def output_path(text: str, option: str = "--plot") -> Path:
-    """Check an output file before the work starts; return the path that will be written.
-
-    The suffix selects the format and must be one matplotlib writes; a name without a suffix gets
-    ``.png``. The folder must exist and accept a new file (tried, not guessed: permissions,
-    read-only or virtual file systems such as /proc).
-
-    Raises
-    ------
-    ModelError
-        If the path names a folder, the folder is missing or not writable, or the format is unknown.
-    """
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    if text.endswith(("/", os.sep)) or Path(text).is_dir():
-        raise ModelError(f"{option} {text}: is a folder; give a file name such as {Path(text) / 'plot.png'}")
-    path = Path(text)
-    formats = FigureCanvasBase.get_supported_filetypes()
-    if not path.suffix:
-        path = path.with_name(path.name + ".png")
-    elif path.suffix[1:].lower() not in formats:
-        raise ModelError(f"{option} {text}: unknown format {path.suffix!r}; valid: {', '.join('.' + f for f in sorted(formats))}")
-    folder = path.parent
-    if not folder.is_dir():
-        raise ModelError(f"{option} {text}: the folder {folder} does not exist")
-    try:
-        with tempfile.NamedTemporaryFile(dir=folder, prefix=".presag-probe-"):
-            pass
-    except OSError as exc:
-        raise ModelError(f"{option} {text}: cannot write into {folder} ({exc.strerror or exc})") from None
-    return path
 
 
 def output_folder(text: str, option: str = "--out") -> Path:

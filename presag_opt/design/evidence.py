@@ -44,10 +44,29 @@ MAX_CREW_TOLERANCE = 0.05
 """Largest crew tolerance accepted: ±50 mm (more is not a pre-sag tolerance). [m]"""
 
 
+def check_uplift_limit(limit: float) -> float:
+    """A steady-arm uplift limit, checked (one line with its value and range in mm). [m]
+
+    Parameters
+    ----------
+    limit : float
+        Largest allowed steady-arm uplift. [m]
+
+    Raises
+    ------
+    ModelError
+        Outside [1, 1000] mm (the range of the dynamic design's objective).
+    """
+    if not (math.isfinite(limit) and 1e-3 <= limit <= 1.0):
+        raise ModelError(f"uplift_limit = {limit * 1e3:g} mm is outside the valid range [1, 1000] mm")
+    return limit
+
+
 def _check_rel(name: str, value: float) -> float:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and 0.0 <= value <= 0.005):
         shown = f"{value * 1e3:g} ‰" if isinstance(value, (int, float)) else repr(value)
-        raise ModelError(f"{name} = {shown} is outside the valid range [0, 5] ‰")
+        raise ModelError(f"{name} = {shown} is outside the model's valid range 0–5 ‰ (a pre-sag the models can "
+                         "take); narrow the force band")
     return float(value)
 
 
@@ -376,8 +395,7 @@ class Evidence:
     def __post_init__(self) -> None:
         if self.scope not in ("band", "line"):
             raise ModelError(f"evidence scope {self.scope!r} is not one of band, line")
-        if not 0.0 < self.uplift_limit <= 1.0:
-            raise ModelError(f"uplift_limit = {self.uplift_limit * 1e3:g} mm is outside the valid range (0, 1000] mm")
+        check_uplift_limit(self.uplift_limit)
         if not 5.0 <= self.reference_span <= 120.0:
             raise ModelError(f"reference_span = {self.reference_span:g} m is outside the valid range [5, 120] m")
         if self.delta_e is None and self.quasi_static_robust is None and self.dynamic_robust is None:

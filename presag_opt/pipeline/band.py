@@ -20,7 +20,7 @@ from pathlib import Path
 
 from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand
 from presag_opt.design.decision import Decision, decide
-from presag_opt.design.evidence import Evidence, crew_tolerance
+from presag_opt.design.evidence import Evidence, check_uplift_limit, crew_tolerance
 from presag_opt.design.recommendation import CASE_STUDY_MODELS, CASE_STUDY_SPAN_LENGTH, Recommendation, recommend
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
@@ -32,6 +32,7 @@ from presag_opt.robust.dynamic_design import DynamicObjective
 from presag_opt.robust.dynamic_study import DynamicRobustStudy, dynamic_robust_study, simulated_band
 from presag_opt.robust.installation import InstallationErrors
 from presag_opt.robust.monte_carlo import MonteCarloResult, QuasiStaticMonteCarlo, installation_tolerance
+from presag_opt.robust.operating_grid import OperatingGrid
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 from presag_opt.robust.study import RobustStudy, robust_study
 from presag_opt.robust.tolerance import check_within
@@ -225,6 +226,7 @@ def answer_band(
     if crew is not None and installation_errors is not None:
         raise ModelError("give the crew tolerance or the installation errors to derive it from, not both")
     check_within(within)
+    check_uplift_limit(uplift_limit)
     numerics = numerics or StaticNumerics()
     names = tuple(m.name if isinstance(m, Catenary) else str(m) for m in models)
     catenaries = [m if isinstance(m, Catenary) else load_catenary(m) for m in models]
@@ -238,6 +240,9 @@ def answer_band(
         objective = DynamicObjective(loss=dynamic.objective, risk=dynamic.risk or Risk(), uplift_limit=uplift_limit)
         pantograph = (dynamic.pantograph if isinstance(dynamic.pantograph, Pantograph)
                       else load_pantograph(dynamic.pantograph))
+        # the simulated grid refused before any work (an empty band, a speed the simulator cannot run)
+        OperatingGrid.from_band(simulated_band(band), static_points=dynamic.static_points,
+                                speed_points=dynamic.speed_points)
     span = reference_span(first) if span_length is None else span_length
     recommendation = recommend(models=catenaries, band=band, method=method, force_levels=numerics.force_levels,
                                step=numerics.step, elasticity_method=numerics.elasticity_method,

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.decision import Decision, decide
-from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, crew_tolerance
+from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, check_uplift_limit, crew_tolerance
 from presag_opt.design.line import LineOptions, build_line, size_line
 from presag_opt.design.line_results import LineDesign, LineSizing, SpanDesign
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
@@ -37,6 +37,7 @@ from presag_opt.robust.dynamic_study import DynamicRobustStudy, dynamic_robust_s
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.span_design import RobustSpanRule
 from presag_opt.robust.study import robust_study
+from presag_opt.robust.tolerance import check_within
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey
 
@@ -220,6 +221,8 @@ def answer_line(
     """
     options = options or LineOptions()
     installation = crew_tolerance(crew)
+    check_within(within)
+    check_uplift_limit(uplift_limit)
     pantograph = None
     if check or dynamic is not None:
         source = CASE_STUDY_PANTOGRAPH if dynamic is None else dynamic.pantograph

@@ -52,7 +52,7 @@ REFUSALS = {
         ["report", "--quick", "--max-speed", "300", "--out", "{tmp}/report"], 2,
         r"speed = 300 km/h is β = 0\.87 .*give --allow-supercritical to run it anyway"),
     "robust --dynamic with a speed band reaching beta >= 0.7": (
-        ["robust", "--dynamic", "--speed", "50:250"], 2,
+        ["robust", "--dynamic", "--max-speed", "250"], 2,
         r"speed = 250 km/h is β = 0\.73 .*give --allow-supercritical to run it anyway"),
     "robust --check-speeds at beta >= 0.7": (
         ["robust", "--check-speeds", "90,260"], 2,

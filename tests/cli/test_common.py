@@ -162,16 +162,14 @@ def test_a_list_is_comma_separated_and_one_value_is_a_list_of_one():
     assert common.float_list("90") == [90.0]
 
 
-def test_output_path_gets_png_by_default_and_refuses_folders_and_unknown_formats(tmp_path):
-    assert common.output_path(str(tmp_path / "fig")) == tmp_path / "fig.png"
-    assert common.output_path(str(tmp_path / "fig.PDF")) == tmp_path / "fig.PDF"
-    with pytest.raises(ModelError, match=r"--plot .*: is a folder; give a file name such as .*plot\.png"):
-        common.output_path(str(tmp_path))
-    with pytest.raises(ModelError, match=r"unknown format '\.xyz'; valid: .*\.png"):
-        common.output_path(str(tmp_path / "fig.xyz"))
-    with pytest.raises(ModelError, match=r"--figure .*: the folder .*missing does not exist"):
-        common.output_path(str(tmp_path / "missing" / "fig.png"), option="--figure")
-    assert not list(tmp_path.iterdir())  # the write probe leaves nothing behind
+def test_output_folder_is_created_and_refuses_files_and_missing_parents(tmp_path):
+    assert common.output_folder(str(tmp_path / "figs"), option="--plot") == tmp_path / "figs"
+    assert (tmp_path / "figs").is_dir() and not list((tmp_path / "figs").iterdir())  # the probe leaves nothing
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ModelError, match=r"--plot .*file: is a file; give a folder"):
+        common.output_folder(str(tmp_path / "file"), option="--plot")
+    with pytest.raises(ModelError, match=r"--out .*: the folder .*missing does not exist"):
+        common.output_folder(str(tmp_path / "missing" / "out"))
 
 
 def test_progress_needs_at_most_one_of_quiet_and_progress(monkeypatch):

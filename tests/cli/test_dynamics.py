@@ -42,11 +42,12 @@ def _run(capsys, *args: str) -> tuple[int, str, str]:
 def test_json_and_plot_match_the_api_in_user_units(capsys, tmp_path, st98):
     """The command line converts km/h and N/(km/h)² to SI and calls simulate(): its JSON equals the
     API's statistics for the same inputs (form-finding and integration are deterministic; 1e-9)."""
-    plot = tmp_path / "force.png"
+    plot = tmp_path / "figs"
     code, out, _ = _run(
         capsys, "st_9.8_ideal", "--pantograph", "case_study_2mass_friction", "--speed", "180",
         "--static-force", "120", "--aero", "0.00097", "--json", "--plot", str(plot),
     )
+    assert (plot / "contact_force.png").stat().st_size > 10_000
     assert code == 0
     printed = json.loads(out)
     assert set(REQUIRED_KEYS) <= set(printed)

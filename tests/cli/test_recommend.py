@@ -54,12 +54,18 @@ def test_bad_input_gives_one_line_and_exit_2(presag, args, message):
 
 def test_recommend_json_has_the_documented_keys(case_study_json):
     out = case_study_json
-    for key in ("presag_mm", "presag_rel_permille", "presag_rel_range_permille", "fm_band_N", "beta_max", "quasi_static_valid"):
+    for key in ("decision", "robust", "presag_mm", "presag_rel_permille", "presag_rel_range_permille", "fm_band_N",
+                "beta_max"):
         assert key in out
     low, high = out["fm_band_N"]
     assert low == pytest.approx(70.0, abs=1e-9) and high == pytest.approx(147.857, abs=1e-9)  # exact arithmetic
     assert out["beta_max"] == pytest.approx(0.26, abs=0.01)  # the paper's value, printed to 0.01
-    assert out["quasi_static_valid"] is True
+    decision = out["decision"]
+    assert decision["validity"]["verdict"] == "holds" and decision["status"] == "provisional"
+    assert decision["basis"] == "quasi-static robust design"
+    assert decision["presag_mm"] == pytest.approx(out["robust"]["presag_mm"], rel=1e-12)
+    assert decision["not_checked"] == ["validity_sweep", "dynamic_robust", "installation_monte_carlo"]
+    assert any("--dynamic-robust" in text for text in decision["not_checked_text"])
     r_low, r_high = out["presag_rel_range_permille"]
     assert 0.0 < r_low < out["presag_rel_permille"] < r_high
     assert out["presag_mm"] == pytest.approx(out["presag_rel_permille"] * 60.0, rel=1e-12)  # ‰ × m = mm
@@ -68,18 +74,21 @@ def test_recommend_json_has_the_documented_keys(case_study_json):
 
 
 def test_recommend_table_and_plot(presag, tmp_path):
-    fig5a = tmp_path / "fig5a.png"
-    run = presag("recommend", "--models", "st_9.8_ideal", "--method", "mid-mast", "--plot", str(fig5a))
+    figures = tmp_path / "figs"
+    run = presag("recommend", "--models", "st_9.8_ideal", "--method", "mid-mast", "--plot", str(figures))
     assert run.returncode == 0, run.stderr
-    for text in ("S = F_m·(e_mid − e_mast)", "F_m 70.0–147.9 N", "Recommended S_rel =", "β_max = 0.26", f"Plot saved to {fig5a}"):
+    fig5a = figures / "presag_against_force.png"
+    for text in ("Pre-sag to build (provisional):", "margins:", "Validity: limit β = 0.35–0.40, 121–138 km/h",
+                 "S = F_m·(e_mid − e_mast)", "F_m 70.0–147.9 N", "β_max = 0.26", f"Plot saved to {fig5a}"):
         assert text in run.stdout
+    assert run.stdout.index("Pre-sag to build") < run.stdout.index("Quasi-static rule")  # the decision first
     assert fig5a.stat().st_size > 10_000  # a rendered figure, not an empty file
 
 
 @pytest.mark.slow
 def test_recommend_compare_paper(presag, tmp_path):
-    fig5b = tmp_path / "fig5b.png"
-    run = presag("recommend", "--compare-paper", "--plot-single-curve", str(fig5b), "--json")
+    run = presag("recommend", "--compare-paper", "--plot", str(tmp_path), "--json")
+    fig5b = tmp_path / "single_curve_error.png"
     assert run.returncode == 0, run.stderr
     rows = {r["item"]: r for r in json.loads(run.stdout)["paper_comparison"]}
     assert rows["Table 1 9.8/9.8 S_rel low"]["difference"] == 0.0

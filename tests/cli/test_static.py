@@ -41,10 +41,10 @@ def test_elasticity_json_has_the_documented_keys(presag, tmp_path):
 
 
 def test_elasticity_table_and_plot(presag, tmp_path):
-    result = presag("elasticity", "--forces", "100", "--step", "3", "--plot", "curves.png", cwd=tmp_path)
+    result = presag("elasticity", "--forces", "100", "--step", "3", "--plot", "curves", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert "e_mid" in result.stdout and "100" in result.stdout
-    assert (tmp_path / "curves.png").stat().st_size > 10_000
+    assert (tmp_path / "curves" / "elasticity.png").stat().st_size > 10_000
 
 
 @pytest.mark.parametrize("args,words", [

@@ -9,7 +9,7 @@ import pytest
 
 def test_monte_carlo_json_and_plot(presag, tmp_path):
     result = presag("tolerance", "--monte-carlo", "--dropper-error", "5", "--height-error", "2", "--samples", "3000",
-                    "--seed", "4", "--json", "--plot", "mc.png", cwd=tmp_path)
+                    "--seed", "4", "--json", "--plot", "figs", cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     data = json.loads(result.stdout)
     assert data["samples"] == 3000 and data["seed"] == 4
@@ -23,7 +23,7 @@ def test_monte_carlo_json_and_plot(presag, tmp_path):
     assert [p["value"] for p in levels] == sorted(p["value"] for p in levels)
     low, high = data["s_interval_mm"]
     assert low < data["presag_mm"] < high
-    assert (tmp_path / "mc.png").stat().st_size > 10_000
+    assert (tmp_path / "figs" / "monte_carlo.png").stat().st_size > 10_000
 
 
 def test_error_free_and_seeded_runs(presag, tmp_path):

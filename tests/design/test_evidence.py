@@ -49,7 +49,7 @@ def test_a_sweep_without_finished_runs_knows_no_uplift():
 
 
 def test_records_refuse_what_is_not_a_pre_sag_or_an_interval():
-    with pytest.raises(ModelError, match=r"presag_rel = 7 ‰ is outside the valid range \[0, 5\] ‰"):
+    with pytest.raises(ModelError, match=r"presag_rel = 7 ‰ is outside the model's valid range 0–5 ‰"):
         DeltaERule(presag_rel=7e-3, presag_rel_range=(0.0, 1e-3), static_uplift=0.05, support_elasticity=3e-4)
     with pytest.raises(ModelError, match="not an interval"):
         QuasiStaticRobust(presag_rel=1e-3, tolerance=(1.2e-3, 0.9e-3), within=0.1)
