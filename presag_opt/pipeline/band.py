@@ -244,6 +244,8 @@ def answer_band(
         OperatingGrid.from_band(simulated_band(band), static_points=dynamic.static_points,
                                 speed_points=dynamic.speed_points)
     span = reference_span(first) if span_length is None else span_length
+    # a stored study is read before any form-finding: a missing or foreign store fails at once
+    validity = None if study is None else stored_sweep(study, band, first.contact_wire.wave_speed)
     recommendation = recommend(models=catenaries, band=band, method=method, force_levels=numerics.force_levels,
                                step=numerics.step, elasticity_method=numerics.elasticity_method,
                                nominal_span_length=span, recompute_at_recommended=recompute,
@@ -252,10 +254,7 @@ def answer_band(
     robust = robust_study(first, recommendation.mean_force_band, shape=shape, risk=risk, buildability=buildability,
                           within=within, settings=numerics.settings, nominal_presag_rel=delta_e.presag_rel,
                           progress=progress)
-    validity = None
-    if study is not None:
-        validity = stored_sweep(study, band, first.contact_wire.wave_speed)
-    elif sweep is not None:
+    if sweep is not None:
         validity = reduced_sweep(first, load_pantograph(CASE_STUDY_PANTOGRAPH) if pantograph is None else pantograph,
                                  band, delta_e.presag_rel, quick=sweep == "quick", element_length=sweep_numerics[0],
                                  time_step=sweep_numerics[1], progress=progress)

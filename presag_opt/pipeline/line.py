@@ -227,10 +227,11 @@ def answer_line(
     if check or dynamic is not None:
         source = CASE_STUDY_PANTOGRAPH if dynamic is None else dynamic.pantograph
         pantograph = source if isinstance(source, Pantograph) else load_pantograph(source)
+    # a stored study is read before any form-finding: a missing or foreign store fails at once
+    validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
     sizing = size_line(survey, base, band, options, progress=progress, span_rule=RobustSpanRule(within=within))
     delta_e = sizing.delta_e()
     quasi = sizing.quasi_static_robust(within)
-    validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
     worst = sizing.sizing[sizing.worst_section()].catenary
     line_check = None
     if check:

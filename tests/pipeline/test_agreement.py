@@ -10,8 +10,6 @@ central span's by the end effects of a ten-span section (measured: 0.1 mm)."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
@@ -21,14 +19,12 @@ from presag_opt.system.survey_writing import survey_of_catenary, write_survey_cs
 BAND = ("--static-force", "70:140", "--max-speed", "90")
 
 
-def presag_json(*args: str, cwd) -> dict:
-    result = subprocess.run([sys.executable, "-m", "presag_opt.cli", *args, "--json", "--quiet"], capture_output=True,
-                            text=True, cwd=cwd, timeout=1800)
-    assert result.returncode == 0, result.stderr
-    return json.loads(result.stdout)
+def decisions(presag, tmp_path, dynamic: bool) -> dict[str, dict]:
+    def presag_json(*args: str, cwd) -> dict:
+        result = presag(*args, "--json", "--quiet", cwd=cwd)
+        assert result.returncode == 0, result.stderr
+        return json.loads(result.stdout)
 
-
-def decisions(tmp_path, dynamic: bool) -> dict[str, dict]:
     survey = write_survey_csv(survey_of_catenary(load_catenary("st_9.8_ideal")), tmp_path / "case_study.csv")
     extra = ("--dynamic-robust",) if dynamic else ()
     out = {
@@ -57,14 +53,15 @@ def assert_one_voice(found: dict[str, dict], line_tolerance_mm: float) -> None:
                                                                       abs=tolerance), command
 
 
-def test_the_band_commands_and_the_line_give_one_quasi_static_decision(tmp_path):
-    assert_one_voice(decisions(tmp_path, dynamic=False), line_tolerance_mm=0.5)
+@pytest.mark.slow  # four commands, a reduced sweep among them: a minute (the decision's branches: test_decision)
+def test_the_band_commands_and_the_line_give_one_quasi_static_decision(presag, tmp_path):
+    assert_one_voice(decisions(presag, tmp_path, dynamic=False), line_tolerance_mm=0.5)
 
 
 @pytest.mark.slow
-def test_with_the_dynamic_robust_design_they_give_one_final_decision(tmp_path):
+def test_with_the_dynamic_robust_design_they_give_one_final_decision(presag, tmp_path):
     """The line's dynamic robust design runs on its worst section at the line's S_rel; the band commands' on
     the ideal section: 1 mm (the dynamic search's resolution is 0.5 mm on 60 m)."""
-    found = decisions(tmp_path, dynamic=True)
+    found = decisions(presag, tmp_path, dynamic=True)
     assert found["recommend"]["status"] in ("decided", "tolerance-bound")
     assert_one_voice(found, line_tolerance_mm=1.0)

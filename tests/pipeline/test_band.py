@@ -17,8 +17,8 @@ ERRORS = InstallationErrors(dropper_length=1.5e-3)
 
 
 @pytest.fixture(scope="module")
-def answered(short_mixed):
-    return answer_band(["st_9.8_ideal", short_mixed], CASE_STUDY_BAND, installation_errors=ERRORS)
+def answered():
+    return answer_band(["st_9.8_ideal"], CASE_STUDY_BAND, installation_errors=ERRORS)
 
 
 def test_one_rule_one_number_across_the_methods(answered):

@@ -115,7 +115,7 @@ def test_the_curve_and_the_bridge_spans_of_a_survey_are_flagged():
                              contact_wire_height=5.0 if i == 6 else 5.5, system_height=1.2,
                              curve_radius=900.0 if i in (2, 3) else 0.0, steady_arm="pull-off") for i in range(9))
     answered = answer_line(Survey(masts=masts), load_catenary("st_9.8_mixed"), CASE_STUDY_BAND,
-                           options=LineOptions(workers=1))
+                           options=LineOptions(element_length=1.0, step=2.0, workers=1))
     flags = {s.span: answered.flag(s) for s in answered.design.spans}
     assert [flags[s] for s in (3, 4, 5, 6)] == [SPAN_FLAGS[2]] * 4
     curve, straight, bridge = (answered.design.spans[i - 1].tolerance for i in (3, 2, 6))
