@@ -31,9 +31,8 @@ def test_morris_on_the_robust_output_json_plot_and_cost_announcement(presag, tmp
     assert tables["presag_rel"]["ranked"][0]["mu_star"] > 1e-3
     assert "evaluations ×" in result.stderr and "min" in result.stderr
     assert len(list((tmp_path / "figs").glob("sensitivity_robust_*_morris.png"))) == 4
-    # reproducible with the seed (the same design and the same indices)
-    again = json.loads(presag(*args, cwd=tmp_path).stdout)
-    assert again["indices"] == data["indices"] and again["design"] == data["design"]
+    # the seed reached the design (reproducibility with a seed: tests/sensitivity/test_methods.py)
+    assert data["seed"] == 3
 
 
 BAD = [
