@@ -15,6 +15,7 @@ import numpy as np
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
 from presag_opt.static.form_finding_equations import form_finding_system
+from presag_opt.static.newton import round_off_force
 from presag_opt.static.potential import PhysicalParameters
 
 
@@ -31,26 +32,33 @@ class FormFindingSolution:
     spring_reference : ndarray
         Unloaded position of each ground spring. [m]
     iterations : int
-        IPOPT iterations. [-]
+        IPOPT iterations, over every solve. [-]
+    restarts : int
+        Solves begun again after one that failed. [-]
     """
 
     positions: np.ndarray
     dropper_unstretched_length: np.ndarray
     spring_reference: np.ndarray
     iterations: int
+    restarts: int = 0
 
 IPOPT_OPTIONS = (
     ("print_level", 0),
     ("sb", "yes"),
     ("tol", 1e-8),
-    ("constr_viol_tol", 1e-6),
     ("max_iter", 100),
     ("hessian_approximation", "limited-memory"),
     ("linear_solver", "mumps"),
 )
-"""IPOPT's options for the form-finding solve: silent; converged at a scaled residual of 1e-8 and
-an equation violation of 1e-6 N (the Newton relaxation that follows meets the force tolerance);
-at most 100 iterations; limited-memory Hessian (the system is square, the objective zero); MUMPS."""
+"""IPOPT's options for the form-finding solve: silent; converged at a scaled residual of 1e-8 (and an
+equation violation of :data:`EQUATION_TOLERANCE`, see :func:`solve_form_finding`); at most 100
+iterations; limited-memory Hessian (the system is square, the objective zero); MUMPS."""
+
+EQUATION_TOLERANCE = 1e-6
+"""Largest violation of a form-finding equation accepted, unless the round-off of the nodal forces
+(:func:`~presag_opt.static.newton.round_off_force`) is larger: IPOPT then stops at the round-off
+instead of iterating on it (the Newton relaxation that follows meets the force tolerance). [N]"""
 
 
 def solve_form_finding(
@@ -95,7 +103,8 @@ def solve_form_finding(
         "form_finding",
         "ipopt",
         {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations},
-        {"print_time": False, "ipopt": dict(IPOPT_OPTIONS)},
+        {"print_time": False, "ipopt": {**dict(IPOPT_OPTIONS),
+                                         "constr_viol_tol": max(EQUATION_TOLERANCE, round_off_force(params, x_design))}},
     )
     targets = x_design[target_dofs]
     result = solver(x0=system.start, p=targets, lbg=0, ubg=0)

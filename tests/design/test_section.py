@@ -46,7 +46,7 @@ def test_a_heavily_compressed_push_off_arm_converges_and_agrees_with_the_tangent
     masts = tuple(SurveyMast(mast=f"M{i}", chainage=45.0 * i, stagger=-0.2, contact_wire_height=5.5, system_height=1.2,
                              curve_radius=500.0, steady_arm="push-off" if i == 4 else "pull-off") for i in range(9))
     cat = section_catenary(load_catenary("st_7.1_mixed"), Survey(masts=masts).sections()[0])
-    state = form_find(cat, StaticSettings(element_length=0.5, geometry_tolerance=5e-4))
+    state = form_find(cat, StaticSettings(element_length=0.5))
     assert -state.steady_arm_forces()[4] == pytest.approx(645.0, rel=0.02)
     curves = section_curves(state, (1.0, 150.0), step=3.0)
     assert curves.elasticity_method == "newton"  # some span needed the fallback
@@ -67,7 +67,7 @@ def test_a_push_off_arm_without_equilibrium_is_named_with_its_force(monkeypatch)
     masts = tuple(SurveyMast(mast=f"M{i}", chainage=45.0 * i, stagger=-0.2, contact_wire_height=5.5, system_height=1.2,
                              curve_radius=500.0, steady_arm="push-off" if i == 2 else "pull-off") for i in range(5))
     state = form_find(section_catenary(load_catenary("st_7.1_mixed"), Survey(masts=masts).sections()[0]),
-                      StaticSettings(element_length=1.0, geometry_tolerance=5e-4))
+                      StaticSettings(element_length=1.0))
 
     def no_equilibrium(*args, **kwargs):
         raise ConvergenceError("newton: no convergence", {})
