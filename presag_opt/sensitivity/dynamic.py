@@ -33,6 +33,7 @@ import xarray as xr
 from presag_opt.contact_force import KMH
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, worker_pool
+from presag_opt.sensitivity.evaluation import run_on_dask
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
@@ -235,7 +236,8 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             progress(finished, total)
 
     if scheduler is not None:
-        _run_dask(definitions, tasks, scheduler, collect)
+        run_on_dask([(i, (i, group)) for i, group in tasks], scheduler,
+                    lambda client, work: client.submit(run_units, definitions[work[0]], work[1], pure=False), collect)
     elif workers == 1 or len(tasks) <= 1:
         for i, group in tasks:
             collect(i, run_units(definitions[i], group))
@@ -245,21 +247,6 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             for future in as_completed(futures):
                 collect(futures[future], future.result())
     return [assemble(d, [results[i][u.key] for u in all_units(d)]) for i, d in enumerate(definitions)]
-
-
-def _run_dask(definitions, tasks, address: str, collect) -> None:
-    """The tasks on a Dask distributed cluster (as :func:`presag_opt.studies.runner.run_study` does)."""
-    from presag_opt.sensitivity.methods import dask_client
-
-    with dask_client(address) as client:
-        from distributed import as_completed as dask_completed
-
-        futures = {client.submit(run_units, definitions[i], group, pure=False): i for i, group in tasks}
-        try:
-            for future in dask_completed(list(futures)):
-                collect(futures[future], future.result())
-        finally:
-            client.cancel(list(futures))
 
 
 def base_study(case) -> StudyDefinition:
