@@ -13,6 +13,7 @@ from presag_opt.cli.common import (
     print_json,
     print_warnings,
     progress,
+    report_failures,
 )
 from presag_opt.cli.dynamic_robust import add_dynamic_robust_option, dynamic_robust, dynamic_robust_summary
 from presag_opt.cli.recommend import add_band_options, check_band_speed, operating_band
@@ -119,8 +120,9 @@ def design_command(args: argparse.Namespace) -> int:
             "outputs": {k: str(v) for k, v in paths.items()},
             "dynamic_robust": None if robust is None else dynamic_robust_summary(robust),
             "seconds": seconds,
+            "failures": [{**e.inputs, "reason": e.failure} for e in design.failures],
         })
-        return 0
+        return report_failures("design", design.failure_summary())
     print("\n".join(design.decision.lines(l_nom)))
     print(f"\n{len(design.survey.masts)} masts, {len(design.sections)} sections, {len(design.spans)} spans, "
           f"{len(design.droppers)} droppers designed in {seconds:.1f} s")
@@ -131,4 +133,4 @@ def design_command(args: argparse.Namespace) -> int:
             print(f"Design rule, section {r.section}: {r.rule}: {r.worst} — {r.status}")
     for name, path in paths.items():
         print(f"{name}: {path}")
-    return 0
+    return report_failures("design", design.failure_summary())
