@@ -121,9 +121,10 @@ class SensitivityResult:
         The failed evaluations, each with its inputs (display units) and the one-line reason; the
         tables leave them out (``samples`` and ``dropped`` of each table say what that costs).
     solver : dict
-        Counts and quantiles of the form-findings of the evaluations made in this run
-        (:func:`~presag_opt.static.solver_statistics.statistics_summary`; those read back from the
-        store are not counted again).
+        Counts and quantiles of the form-findings of the evaluations
+        (:func:`~presag_opt.static.solver_statistics.statistics_summary`; an evaluation read back from
+        the store brings those of the run that made it, so a resumed analysis reports what an
+        uninterrupted one does).
     store : str
         Folder keeping every finished evaluation ("" when none is kept).
     """
