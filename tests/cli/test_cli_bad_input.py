@@ -58,10 +58,13 @@ def test_cache_command_clears(tmp_path):
                          cwd=tmp_path, env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=300)
     assert run.returncode == 0, run.stderr
     assert len(list((env_home / "presag_opt").glob("state-*.npz"))) == 1
+    kept = env_home / "presag_opt" / "evaluations" / "sensitivity-robust-x-0123"  # an analysis' evaluations
+    kept.mkdir(parents=True)
+    (kept / "store.json").write_text('{"key": "0123"}')
     cleared = subprocess.run([str(SCRIPT), "cache", "--clear"], capture_output=True, text=True, cwd=tmp_path,
                              env={"XDG_CACHE_HOME": str(env_home), "PATH": "/usr/bin:/bin"}, timeout=60)
-    assert cleared.returncode == 0 and "removed 1 cached state" in cleared.stdout
-    assert not list((env_home / "presag_opt").glob("state-*.npz"))
+    assert cleared.returncode == 0 and "removed 1 cached state(s) and the evaluations of 1 analyses" in cleared.stdout
+    assert not list((env_home / "presag_opt").glob("state-*.npz")) and not kept.exists()
 
 
 # ----- 3. inputs inside the advertised ranges -----------------------------------------------------
