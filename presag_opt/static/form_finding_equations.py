@@ -1,6 +1,6 @@
 """The form-finding equations g(v; p) = 0 of a catenary section, and their sensitivity to the targets.
 
-The form-finding problem: the unknowns v (node heights and sideways positions, steady-arm settings,
+The form-finding problem: the unknowns v (node heights and sideways positions, steady-arm forces,
 dropper lengths, spring references) that balance every free node with each wire element acting as
 a string of constant horizontal tension, while the contact wire holds its target heights p. The
 equations are CasADi SX expressions built from the same energy terms as the potential
@@ -102,7 +102,7 @@ def form_finding_system(
     target_dofs : ndarray of int
         Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
-        Design coordinates (first-guess pivots). [m]
+        Design coordinates (the first-guess pivots give the arms' starting forces). [m]
     """
     base = x_design.reshape(-1, 3)
     fixed = disc.fixed_dofs.reshape(-1, 3)

@@ -220,9 +220,9 @@ def messenger_sag_guess(catenary: Catenary, span: int, positions: np.ndarray) ->
 
 DROPPER_GUESS_MARGIN = 0.03
 """How far the first-guess length of a dropper (:func:`messenger_sag_guess`) may lie below the shortest
-dropper before the section is refused without a solve: twice the guess's largest underestimate over the
-form-finding study's sections (14 mm, on 64 m spans of a 340 m curve, whose wires' horizontal tension
-the guess leaves at T; ``benchmarks/bench_form_finding_fuzz.py``). [m]"""
+dropper before the section is refused without a solve: more than the guess's largest underestimate over
+the form-finding study's 600 sections (18 mm, on 64 m spans of a 310 m curve, whose wires' horizontal
+tension the guess leaves at T; ``benchmarks/bench_form_finding_fuzz.py``). [m]"""
 
 
 def check_dropper_room(catenary: Catenary, stations: SectionStations, lengths: np.ndarray,

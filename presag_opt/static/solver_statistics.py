@@ -36,8 +36,9 @@ class FormFindingStatistics:
     newton_iterations : int
         Newton iterations of the relaxations. [-]
     restarts : int
-        IPOPT solves begun again after one that failed (from a continuation start, see
-        :mod:`presag_opt.static.form_finding_solver`); 0 when every first solve converged. [-]
+        IPOPT solves begun again after one that did not converge (with the exact Hessian,
+        :data:`~presag_opt.static.form_finding_solver.RESTART_OPTIONS`); 0 when every first solve
+        converged. [-]
     seconds : float
         Wall time of the form-finding (of the original solve for a state read from the cache). [s]
     cached : bool
