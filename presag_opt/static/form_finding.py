@@ -4,7 +4,9 @@
 :mod:`presag_opt.static.form_finding_solver`, then a Newton relaxation of the full model,
 :mod:`presag_opt.static.newton`), checks the result and returns the
 :class:`~presag_opt.static.equilibrium.EquilibriumState`, reading it from the cache of form-found
-states (:mod:`presag_opt.static.cache`) when one is set. :func:`dropper_height_sensitivity` is how the
+states (:mod:`presag_opt.static.cache`) when one is set, with its solver statistics
+(:mod:`presag_opt.static.solver_statistics`). :func:`check_form_finding_inputs` refuses, before any
+solve, a section that has no form-found state. :func:`dropper_height_sensitivity` is how the
 form-found heights move with the dropper targets.
 """
 
@@ -43,7 +45,9 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     wire's get the unstretched lengths that carry that tension in the form-found shape. Solved with IPOPT
     as one square system (see :func:`presag_opt.static.form_finding_solver.solve_form_finding`). With a cache
     directory set (:func:`presag_opt.static.cache.use_cache`), a state form-found before for the
-    same catenary, settings and code is read back instead.
+    same catenary, settings and code is read back instead. The state carries the solve's statistics
+    (:attr:`~presag_opt.static.equilibrium.EquilibriumState.form_finding`), also given to an open
+    :func:`~presag_opt.static.solver_statistics.recording`.
 
     Parameters
     ----------
@@ -62,8 +66,9 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     ConvergenceError
         If IPOPT fails or the result misses the equilibrium or geometry tolerance.
     ModelError
-        If ``catenary`` is not a :class:`Catenary` (e.g. a model name), or the geometry cannot be
-        built: a dropper would have to push, or would be shorter than ``settings.min_dropper_length``.
+        If ``catenary`` is not a :class:`Catenary` (e.g. a model name); before any solve, what
+        :func:`check_form_finding_inputs` refuses; after it, a dropper that would have to push or is
+        shorter than ``settings.min_dropper_length``.
     """
     if not isinstance(catenary, Catenary):
         hint = " (load a model first: form_find(load_catenary(name)))" if isinstance(catenary, str) else ""
@@ -82,6 +87,7 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     if key is not None:
         cache.store(key, cache.state_arrays(state))
     return state
+
 
 def check_form_finding_inputs(catenary: Catenary, settings: StaticSettings | None = None) -> None:
     """Refuse, before any solve, a section that has no form-found state, in one line that says where and why.
