@@ -343,9 +343,14 @@ def sensitivity_analysis(
             store = EvaluationStore.open(folder, key, f"presag sensitivity {case.name} --output {output} "
                                                       f"--method {method} --seed {seed}")
             labels = {"inputs": chosen, "value_names": [n for n, _ in value_names], "store": store}
+            kept = len(store.read(range(len(rows))))
             evaluate_rows(evaluator, rows[:1], **labels)  # alone: its time is the cost announced
             seconds_first = time.perf_counter() - start
-            _announce(announce, len(rows), seconds_first, workers)
+            if kept and announce:
+                announce(f"{kept} of {len(rows)} evaluations read back from {folder}; computing the other "
+                         f"{len(rows) - kept}")
+            else:
+                _announce(announce, len(rows), seconds_first, workers)
             # half a Morris trajectory in one process: its steps in α_ae and the span list reuse form-findings
             # (halves, not whole trajectories, keep the two workers' last tasks short)
             chunk = max(1, (len(chosen) + 1) // 2) if method == "morris" and kind == "recommendation" else 1

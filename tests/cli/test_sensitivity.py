@@ -71,6 +71,7 @@ def test_morris_on_the_robust_output_json_plot_and_cost_announcement(tmp_path):
     assert again["solver"] == {**data["solver"], "seconds": again["solver"]["seconds"]}  # the same form-findings
     assert len(kept_evaluations(killed_cache)) == 9
     assert {path: path.stat().st_mtime_ns for path in kept} == kept  # read back, not computed again
+    assert f"{len(kept)} of 9 evaluations read back from {killed_cache}" in resumed.stderr
 
 
 BAD = [
