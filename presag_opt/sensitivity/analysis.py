@@ -80,7 +80,7 @@ METHODS = ("morris", "sobol", "spread")
 QUASI_STATIC = ("recommendation", "robust")
 DYNAMIC = ("dynamic", "minima", "validity")
 PER_SAMPLE = ("dynamic-robust",)
-"""Outputs whose samples run as one task each (:func:`~presag_opt.sensitivity.methods.evaluate_rows`)."""
+"""Outputs whose samples run as one task each (:func:`~presag_opt.sensitivity.evaluation.evaluate_rows`)."""
 OUTPUT_NAMES = (*QUASI_STATIC, *PER_SAMPLE, *(f"{k}:SPEEDS" for k in DYNAMIC))
 """Output names as the command line takes them."""
 
@@ -343,12 +343,12 @@ def sensitivity_analysis(
             store = EvaluationStore.open(folder, key, f"presag sensitivity {case.name} --output {output} "
                                                       f"--method {method} --seed {seed}")
             labels = {"inputs": chosen, "value_names": [n for n, _ in value_names], "store": store}
-            kept = len(store.read(range(len(rows))))
+            read_back = len(store.read(range(len(rows))))
             evaluate_rows(evaluator, rows[:1], **labels)  # alone: its time is the cost announced
             seconds_first = time.perf_counter() - start
-            if kept and announce:
-                announce(f"{kept} of {len(rows)} evaluations read back from {folder}; computing the other "
-                         f"{len(rows) - kept}")
+            if read_back and announce:
+                announce(f"{read_back} of {len(rows)} evaluations read back from {folder}; computing the other "
+                         f"{len(rows) - read_back}")
             else:
                 _announce(announce, len(rows), seconds_first, workers)
             # half a Morris trajectory in one process: its steps in α_ae and the span list reuse form-findings

@@ -264,6 +264,10 @@ def morris_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values:
                    unit: str, seed: int) -> OutputIndices:
     """Morris μ*, its confidence interval and σ of one output, ranked by μ*.
 
+    A trajectory with a failed evaluation (a non-finite value) has lost an elementary effect of one
+    input, two if the point is inside it: it is dropped whole, so that every input keeps the same
+    number of effects, and counted (``dropped``).
+
     Parameters
     ----------
     inputs : sequence of SensitivityInput
@@ -276,10 +280,6 @@ def morris_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values:
         Output name and unit (for the table).
     seed : int
         Seed of the bootstrap. [-]
-
-    A trajectory with a failed evaluation (a non-finite value) has lost an elementary effect of one input
-    (two, if the point is inside it); it is dropped whole, so that every input keeps the same number
-    of effects, and counted (``dropped``).
     """
     groups = _used_groups(output, values, len(inputs) + 1, "trajectories")
     used = np.repeat(groups, len(inputs) + 1)

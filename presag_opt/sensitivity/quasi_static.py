@@ -2,7 +2,7 @@
 
 Each evaluator is a picklable callable that takes one row of input values (SI, in the order of its
 ``names``) and returns the output values in edge units (‰, -); the methods run it in worker
-processes (:func:`presag_opt.sensitivity.methods.evaluate_rows`).
+processes (:func:`presag_opt.sensitivity.evaluation.evaluate_rows`).
 """
 
 from __future__ import annotations

@@ -84,7 +84,8 @@ def solve_form_finding(
     sideways equilibrium at every free node, equilibrium across the track at every steady-arm clamp
     (whose lateral position is the stagger), and the designed height at ``target_dofs``. The system
     is square; IPOPT solves it as a feasibility problem (zero objective), to an equation violation of
-    :data:`EQUATION_TOLERANCE` or the round-off of the nodal forces, whichever is larger.
+    :data:`EQUATION_TOLERANCE` or the round-off of the nodal forces, whichever is larger. A solve that
+    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`.
 
     Parameters
     ----------
@@ -98,8 +99,6 @@ def solve_form_finding(
         Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
         Design coordinates (the first-guess pivots give the arms' starting forces). [m]
-
-    A solve that IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`.
 
     Raises
     ------

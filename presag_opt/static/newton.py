@@ -48,7 +48,8 @@ def force_tolerance(params: PhysicalParameters, x: np.ndarray, settings: StaticS
 def round_off_force(params: PhysicalParameters, x: np.ndarray) -> float:
     """The round-off of the nodal forces: no balance can be checked more finely than this. [N]
 
-    :data:`ROUND_OFF_FACTOR` · ε · k_max · |x|_max (ε machine epsilon, k_max the stiffest axial element).
+    :data:`ROUND_OFF_FACTOR` · ε · k_max · x_max (ε machine epsilon, k_max the stiffest axial element,
+    x_max the largest coordinate in size).
 
     Parameters
     ----------

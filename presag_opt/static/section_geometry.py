@@ -186,14 +186,12 @@ def messenger_sag_guess(catenary: Catenary, span: int, positions: np.ndarray) ->
     """First guess of the messenger wire's sag below the line between its supports in a span. [m]
 
     Both wires, the droppers and their clamps hang together: per unit length, vertical balance of the
-    whole gives T_MW·D_MW'' + T_CW·D_CW'' = −q, with D the depth below each wire's support line (zero
-    at the masts), q the load the wires carry between the masts and D_CW the pre-sag. So
-    D_MW(x) = (M(x) − T_CW·D_CW(x))/T_MW, M the bending moment of q on a simply supported span: the
-    sag of a cable carrying everything, less what the pre-sagged contact wire's tension carries
-    itself. q is the weight of both wires and of the droppers spread along the span (each dropper at
-    the span's smaller system height), less the contact wire's weight over the half of each end bay
-    next to a mast, which the steady arm carries (c from the mast: M(x) loses w_CW·c²·(l − x)/(2l) for
-    the first mast, w_CW·c²·x/(2l) for the second, at the droppers, all beyond c).
+    whole gives T_MW·D_MW'' + T_CW·D_CW'' = −w, with D the depth below each wire's support line (zero
+    at the masts), w the weight of both wires and of the droppers spread along the span (each at the
+    span's smaller system height), and D_CW the pre-sag. So D_MW(x) = (w·x(l − x)/2 − T_CW·D_CW(x))/T_MW:
+    the sag of a cable carrying everything, less what the pre-sagged contact wire's tension carries
+    itself. (The steady arms carry some of the contact wire next to the masts; leaving that out puts
+    the guess up to about 20 mm below the form-found messenger wire on long spans.)
 
     Parameters
     ----------
@@ -207,22 +205,19 @@ def messenger_sag_guess(catenary: Catenary, span: int, positions: np.ndarray) ->
     length = catenary.layout.span_lengths[span]
     x = np.asarray(positions, dtype=float)
     droppers = catenary.droppers
-    drops = droppers.positions_in_span(length)
     dropper_height = float(np.min(catenary.mast_system_height()[span : span + 2]))
-    dropper_mass = len(drops) * (droppers.mass_per_length * dropper_height + 2.0 * droppers.clamp_mass) / length
-    contact = GRAVITY * catenary.contact_wire.mass_per_length
-    weight = contact + GRAVITY * (catenary.messenger_wire.mass_per_length + dropper_mass)
-    near, far = drops[0] / 2.0, (length - drops[-1]) / 2.0  # the half end bays the arms carry
-    moment = weight * x * (length - x) / 2.0 - contact * (near**2 * (length - x) + far**2 * x) / (2.0 * length)
+    dropper_mass = len(droppers.positions_in_span(length)) * (
+        droppers.mass_per_length * dropper_height + 2.0 * droppers.clamp_mass) / length
+    weight = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length + dropper_mass)
     cw, mw = catenary.contact_wire.tension, catenary.messenger_wire.tension
-    return np.where((x > 0.0) & (x < length), moment - cw * catenary.presag_depth(span, x), 0.0) / mw
+    return (weight * x * (length - x) / 2.0 - cw * catenary.presag_depth(span, x)) / mw
 
 
 DROPPER_GUESS_MARGIN = 0.03
 """How far the first-guess length of a dropper (:func:`messenger_sag_guess`) may lie below the shortest
 dropper before the section is refused without a solve: more than the guess's largest underestimate over
-the form-finding study's 600 sections (18 mm, on 64 m spans of a 310 m curve, whose wires' horizontal
-tension the guess leaves at T; ``benchmarks/bench_form_finding_fuzz.py``). [m]"""
+the form-finding study's 600 sections (20 mm, on 64 m spans, the arms carrying the contact wire next to
+the masts; ``benchmarks/bench_form_finding_fuzz.py``). [m]"""
 
 
 def check_dropper_room(catenary: Catenary, stations: SectionStations, lengths: np.ndarray,

@@ -69,10 +69,8 @@ def test_the_messenger_sag_guess_is_the_sag_of_everything_less_what_the_presagge
     n = len(drops.positions_in_span(60.0))  # 7
     w = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length
                    + n * (drops.mass_per_length * catenary.system_height + 2 * drops.clamp_mass) / 60.0)
-    # at mid-span: (w l²/8 − w_CW·c²/2 − T_CW·S)/T_MW, S = 60 mm, the arms carrying c = 2.25 m of contact wire at
-    # each end; at the masts: none
-    moment = w * 3600.0 / 8.0 - GRAVITY * catenary.contact_wire.mass_per_length * 2.25**2 / 2.0
-    expected = (moment - catenary.contact_wire.tension * 0.060) / catenary.messenger_wire.tension
+    # at mid-span: (w l²/8 − T_CW·S)/T_MW, S = 60 mm; at the masts: none
+    expected = (w * 3600.0 / 8.0 - catenary.contact_wire.tension * 0.060) / catenary.messenger_wire.tension
     assert messenger_sag_guess(catenary, 4, np.array([30.0]))[0] == pytest.approx(expected, rel=1e-12)
     np.testing.assert_allclose(messenger_sag_guess(catenary, 4, np.array([0.0, 60.0])), 0.0, rtol=0, atol=1e-15)
 
