@@ -42,3 +42,20 @@ class StorageError(PresagError, OSError):
 
     def __str__(self) -> str:
         return self.message
+
+
+def failure_reason(exc: BaseException) -> str:
+    """One line saying why a computation failed: the message of an expected error (this module's), else
+    the error's type and message (``MemoryError: out of memory`` for one without a message).
+
+    Parameters
+    ----------
+    exc : BaseException
+        The error.
+    """
+    first = str(exc).splitlines()[0] if str(exc) else ""
+    if isinstance(exc, PresagError):
+        return first
+    if isinstance(exc, MemoryError):
+        return f"MemoryError: {first or 'out of memory'}"
+    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__

@@ -23,6 +23,7 @@ LAYERS = {
     "speed": 1,
     "processes": 1,
     "atomic_files": 1,
+    "evaluation_store": 2,
     "style": 1,
     "system": 2,
     "static": 3,

@@ -47,6 +47,10 @@ EXIT_INTERRUPTED = 130
 """128 + SIGINT, as a shell reports a program stopped by Ctrl-C."""
 EXIT_STORAGE = 4
 """A file could not be written or read: no space left, no permission, a read-only folder."""
+EXIT_PARTIAL = 5
+"""A long analysis finished without some of its evaluations: they failed (each kept with its inputs
+and reason), the result leaves them out and says what that costs, and one line on standard error says
+how many (:func:`report_failures`)."""
 EXIT_INTERNAL = 70
 """An error the package did not expect (EX_SOFTWARE): one line, the traceback with PRESAG_DEBUG=1."""
 EXIT_BROKEN_PIPE = 141
@@ -65,8 +69,10 @@ command-line grammar:
   A,B,C      a list of values, e.g. --forces 50,100,150 (N)
   units      are in each option's metavar (N, MM, M, KMH, PERCENT); one number for a band means LOW = HIGH
   --quiet / --progress   no progress display / the display at once, even when standard error is not a terminal
-  --no-cache             do not read or write the form-finding cache (also: PRESAG_NO_CACHE=1; clear it with
-                         `presag cache --clear`)"""
+  --no-cache             do not read or write the cache of form-found states and of the finished evaluations
+                         of long analyses (also: PRESAG_NO_CACHE=1; clear it with `presag cache --clear`)
+exit status: 0 done, 2 bad input, 3 a solver did not converge, 4 a file could not be written, 5 done without some
+  failed evaluations (a long analysis: one line says how many), 70 an unexpected error, 130 interrupted"""
 """The grammar shared by every sub-command, printed as the epilog of ``presag --help``."""
 
 
@@ -428,6 +434,27 @@ def print_warnings(messages: Iterable[str]) -> None:
         if text and text not in shown:
             shown[text] = None
             print(f"presag: warning: {text}", file=sys.stderr, flush=True)
+
+
+def report_failures(command: str, summary: str) -> int:
+    """The end of a long analysis: one line on standard error when some of its evaluations failed.
+
+    Parameters
+    ----------
+    command : str
+        The sub-command, e.g. ``sensitivity``.
+    summary : str
+        The analysis' one-line summary of its failures ("" when none failed).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or :data:`EXIT_PARTIAL` after failures. [-]
+    """
+    if not summary:
+        return 0
+    print(f"presag {command}: {summary}", file=sys.stderr, flush=True)
+    return EXIT_PARTIAL
 
 
 def shown_warnings() -> list[str]:

@@ -5,7 +5,15 @@ from __future__ import annotations
 import argparse
 import time
 
-from presag_opt.cli.common import add_json_flag, model_help, output_folder, print_json, print_warnings, progress
+from presag_opt.cli.common import (
+    add_json_flag,
+    model_help,
+    output_folder,
+    print_json,
+    print_warnings,
+    progress,
+    report_failures,
+)
 from presag_opt.cli.decision_options import (
     add_band_options,
     add_decision_options,
@@ -107,8 +115,9 @@ def design_command(args: argparse.Namespace) -> int:
             "outputs": {k: str(v) for k, v in paths.items()},
             "dynamic_robust": None if answer.dynamic is None else answer.dynamic.to_dict(),
             "seconds": seconds,
+            "failures": [{**e.inputs, "reason": e.failure} for e in design.failures],
         })
-        return 0
+        return report_failures("design", design.failure_summary())
     print_decision(answer.lines(LINE_OPTIONS))
     print(f"{len(design.survey.masts)} masts, {len(design.sections)} sections, {len(design.spans)} spans, "
           f"{len(design.droppers)} droppers designed in {seconds:.1f} s")
@@ -124,4 +133,4 @@ def design_command(args: argparse.Namespace) -> int:
             print(f"Design rule, section {r.section}: {r.rule}: {r.worst} — {r.status}")
     for name, path in paths.items():
         print(f"{name}: {path}")
-    return 0
+    return report_failures("design", design.failure_summary())

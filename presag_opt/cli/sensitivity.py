@@ -10,6 +10,7 @@ from presag_opt.cli.common import (
     output_folder,
     print_json,
     progress,
+    report_failures,
     table,
 )
 from presag_opt.cli.decision_options import add_workers_option, workers_of
@@ -50,7 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask distributed scheduler to run the evaluations on (e.g. tcp://host:8786)")
     p.add_argument("--out", metavar="STORE", default=None,
-                   help="folder of the resumable stores (a killed analysis resumes from it)")
+                   help="folder of the resumable stores (default: a folder of the analysis in the cache, "
+                        "unless --no-cache); a killed analysis run again computes only the evaluations not kept")
     p.add_argument("--plot", metavar="DIR", default=None, help="save the Morris or Sobol figures into this folder")
     add_json_flag(p)
     p.set_defaults(handler=sensitivity_command)
@@ -76,12 +78,19 @@ def sensitivity_command(args: argparse.Namespace) -> int:
     paths = save_sensitivity_figures(result, plot) if plot and result.method != "spread" else []
     if args.json:
         print_json(result.to_dict())
-        return 0
+        return report_failures("sensitivity", result.failure_summary())
     print(f"{result.case}: {result.method} sensitivity of {result.output} over {len(result.inputs)} inputs, "
           f"{result.evaluations} evaluations in {result.seconds:.0f} s (seed {result.seed}"
           + (f"; {result.resolution}" if result.resolution else "") + ")")
+    solver = result.solver
+    if solver.get("form_findings"):
+        print(f"form-findings: {solver['form_findings']} solved ({solver['cached']} from the cache), iterations "
+              f"median {solver['iterations']['q50']:.0f}, largest {solver['iterations']['q100']:.0f}; "
+              f"{solver['restarts']} restart(s)")
+    unit = {"morris": "trajectories", "sobol": "base samples"}.get(result.method, "points")
     for t in result.indices:
-        print(f"\n{t.output} [{t.unit}]: mean {t.mean:.4g}, std {t.std:.3g}")
+        used = f"; {t.samples} of {t.samples + t.dropped} {unit}" if t.dropped else ""
+        print(f"\n{t.output} [{t.unit}]: mean {t.mean:.4g}, std {t.std:.3g}{used}")
         if t.method == "spread":
             continue
         if t.morris:
@@ -94,7 +103,7 @@ def sensitivity_command(args: argparse.Namespace) -> int:
                         ["{}", "{:.3f}", "{:.3f}", "{:.3f}", "{:.3f}"]))
     if paths:
         print("\nPlots saved: " + ", ".join(str(p) for p in paths))
-    return 0
+    return report_failures("sensitivity", result.failure_summary())
 
 
 def save_sensitivity_figures(result, folder):

@@ -65,12 +65,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     p = subparsers.add_parser(
         "cache",
-        help="show or clear the cache of form-found states",
+        help="show or clear the cache of form-found states and of the finished evaluations of long analyses",
         description="Form-found states are cached in $XDG_CACHE_HOME/presag_opt (default ~/.cache/presag_opt), "
-        "keyed by the model's values, the settings, the package version and the code; --no-cache or "
-        f"{NO_CACHE_ENV}=1 turns the cache off.",
+        "keyed by the model's values, the settings, the package version and the code; the finished evaluations "
+        "of long analyses (presag sensitivity, presag tolerance --monte-carlo --dynamic) are kept in its "
+        f"'evaluations' folder, one folder per analysis; --no-cache or {NO_CACHE_ENV}=1 turns both off.",
     )
-    p.add_argument("--clear", action="store_true", help="delete the cached states")
+    p.add_argument("--clear", action="store_true", help="delete the cached states and the kept evaluations")
     p.set_defaults(handler=cache_command)
 
 
@@ -101,6 +102,7 @@ def form_find_command(args: argparse.Namespace) -> int:
     if args.json:
         print_json({
             "catenary": catenary.name,
+            "form_finding": state.form_finding.to_dict(),
             "droppers": [r.__dict__ for r in rows],
             "steady_arms": [
                 {"mast": i + 1, "force_N": f, "angle_deg": a}
@@ -165,10 +167,14 @@ def cache_command(args: argparse.Namespace) -> int:
     """Handler of ``presag cache``: where the cache is and what it holds, or ``--clear``."""
     folder = default_cache_directory()
     if args.clear:
-        print(f"removed {cache.clear(folder)} cached state(s) from {folder}")
+        print(f"removed {cache.clear(folder)} cached state(s) and the evaluations of "
+              f"{cache.clear_evaluations(folder)} analyses from {folder}")
         return 0
     files = sorted(folder.glob("state-*.npz")) if folder.is_dir() else []
     size = sum(f.stat().st_size for f in files)
+    kept = folder / cache.EVALUATIONS
+    analyses = [p for p in kept.iterdir() if p.is_dir()] if kept.is_dir() else []
     state = f"off (--no-cache or {NO_CACHE_ENV})" if cache.active_directory() is None else "on"
-    print(f"cache {folder}: {len(files)} state(s), {size / 1e6:.1f} MB; {state}")
+    print(f"cache {folder}: {len(files)} state(s), {size / 1e6:.1f} MB; the evaluations of {len(analyses)} "
+          f"analyses; {state}")
     return 0

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, table
+from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, report_failures, table
 from presag_opt.errors import ModelError
 
 MAX_ERROR_MM = 100.0
@@ -51,8 +51,9 @@ def add_options(p: argparse.ArgumentParser) -> None:
                    help="simulate every realisation over the band's static forces × speeds (from 50 km/h; 4 × 3 "
                    "points, the case-study pantograph)")
     g.add_argument("--out", metavar="DIR", default=None,
-                   help="folder keeping every finished realisation of --dynamic: a killed run, started again with "
-                   "the same options, simulates only the rest")
+                   help="folder keeping every finished realisation of --dynamic (default: a folder of this Monte Carlo "
+                   "in the cache, unless --no-cache): a killed run, started again with the same options, simulates "
+                   "only the rest")
     g.add_argument("--find-dropper-tolerance", action="store_true",
                    help="the largest dropper error whose P95 stays within --within of the error-free design")
 
@@ -147,13 +148,14 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
                 s_interval_within=study.tolerance.within)
     if plot:
         _plot(result, data, plot)
+    summary = data.pop("failure_summary", "")
     if args.json:
         print_json(data)
-        return 0
+        return report_failures("tolerance", summary)
     _print(data)
     if plot:
         print(f"Plot saved to {plot}")
-    return 0
+    return report_failures("tolerance", summary)
 
 
 def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
@@ -216,7 +218,10 @@ def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d, out=Non
                                   **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles["largest_uplift"].items()}},
             "slack_droppers_at_rest": {"realisations": sum(r.slack_at_rest > 0 for r in result.realisations),
                                        "most": max(r.slack_at_rest for r in result.realisations)},
-            "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers}
+            "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers,
+            "samples_used": result.samples, "failed": len(result.failures),
+            "failures": [{"realisation": e.index, "reason": e.failure} for e in result.failures],
+            "store": result.store, "failure_summary": result.failure_summary()}
     return data, result.values("worst_sigma_over_fm")
 
 
@@ -243,7 +248,8 @@ def _print(data: dict) -> None:
           f"{data['reference_span_m']:g} m, {data['kind']}")
     print(f"errors per dropper {data['dropper_error_mm']:.2f} mm, per mast height {data['height_error_mm']:.2f} mm "
           f"({data['distribution']}: {'σ' if data['distribution'] == 'normal' else '±t'}); {data['samples']} "
-          f"realisations, seed {data['seed']}")
+          f"realisations" + (f" ({data['samples_used']} finished)" if data.get("failed") else "")
+          + f", seed {data['seed']}")
     rows = [("error-free", data["nominal_worst_case"], None, None)]
     rows += [(f"P{k}", data[f"p{k}"]["value"], *data[f"p{k}"]["ci"]) for k in (50, 90, 95, 99)]
     print(table([data["measure"] + unit, "value", "95 % CI low", "95 % CI high"], rows, ["{}", fmt, fmt, fmt]))

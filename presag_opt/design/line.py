@@ -44,7 +44,8 @@ from presag_opt.design.line_results import (
 from presag_opt.design.line_rules import check_rules
 from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import SectionElasticity, default_spans, section_curves
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ConvergenceError, ModelError, PresagError, failure_reason
+from presag_opt.evaluation_store import Evaluation
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
@@ -76,10 +77,7 @@ class LineOptions:
     step : float
         Point spacing of the elasticity curves. [m]
     geometry_tolerance : float
-        Largest miss of a form-finding target accepted. The static model's default, 0.05 mm, is not
-        reached on sections that change from straight track to a curve (the form-finding passes
-        stagnate at 0.1–0.4 mm there, as notebook 05 finds on curves); 0.5 mm is a tenth of a dropper's
-        installation tolerance. [m]
+        Largest miss of a form-finding target accepted (the static model's default). [m]
     workers : int
         Processes for the sections. [-]
     """
@@ -87,7 +85,7 @@ class LineOptions:
     rule: str = "proportional"
     element_length: float = 0.5
     step: float = 1.0
-    geometry_tolerance: float = 5e-4
+    geometry_tolerance: float = 5e-5
     workers: int = 2
 
     def __post_init__(self) -> None:
@@ -137,8 +135,12 @@ def size_line(
     Raises
     ------
     ModelError
-        Rule ``robust`` without a ``span_rule``; a section the base system cannot be built on (e.g. a
-        span too short for its dropper rule, droppers shorter than the shortest buildable one).
+        Rule ``robust`` without a ``span_rule``, or a span rule given for another rule; every section
+        failing (the first one's error: a section the base system cannot be built on, e.g. a span too
+        short for its dropper rule, droppers shorter than the shortest buildable one). A line where only
+        some sections fail is designed without them (:attr:`LineDesign.failures`).
+    ConvergenceError
+        Every section failing, the first for a solver that did not converge.
     """
     options = options or LineOptions()
     if not isinstance(survey, Survey):
@@ -150,10 +152,14 @@ def size_line(
     low, high = band.mean_force_band()
     levels = force_levels_for_band(low, high)
     settings = StaticSettings(element_length=options.element_length, geometry_tolerance=options.geometry_tolerance)
-    sizing = _in_parallel(_size_section, [(c, levels, band, options.step, settings, span_rule) for c in catenaries],
-                          options.workers, "sizing", progress)
-    return LineSizing(survey=survey, base_name=base.name, band=band, options=options, sections=tuple(sections),
-                      sizing=tuple(sizing), levels=tuple(levels), settings=settings)
+    failures: list[Evaluation] = []
+    sized = _kept(_in_parallel(_size_section, [(c, levels, band, options.step, settings, span_rule)
+                                               for c in catenaries], options.workers, "sizing", progress),
+                  sections, "sizing", failures)
+    kept = [(sec, size) for sec, size in zip(sections, sized, strict=True) if size is not None]
+    return LineSizing(survey=survey, base_name=base.name, band=band, options=options,
+                      sections=tuple(sec for sec, _ in kept), sizing=tuple(size for _, size in kept),
+                      levels=tuple(levels), settings=settings, failures=tuple(failures))
 
 
 def build_line(sizing: LineSizing, presag_rel: float, progress: Callable[[str], None] | None = None) -> LineDesign:
@@ -173,10 +179,13 @@ def build_line(sizing: LineSizing, presag_rel: float, progress: Callable[[str], 
     jobs = [(size.catenary, sec, size, presag_rel, options.rule, sizing.band, sizing.settings,
              sizing.survey.working_width, sizing.levels, options.step)
             for sec, size in zip(sizing.sections, sizing.sizing)]
-    built = _in_parallel(_build_section, jobs, options.workers, "building", progress)
+    failures = list(sizing.failures)
+    built = _kept(_in_parallel(_build_section, jobs, options.workers, "building", progress),
+                  list(sizing.sections), "building", failures)
     notes = (OVERLAP_NOTE, "elasticity per span is that of the line as built, at the band-centre F_m")
     return LineDesign(survey=sizing.survey, base_name=sizing.base_name, band=sizing.band, options=options,
-                      presag_rel=presag_rel, sections=tuple(built), notes=notes)
+                      presag_rel=presag_rel, sections=tuple(b for b in built if b is not None), notes=notes,
+                      failures=tuple(failures))
 
 
 def design_line(
@@ -209,6 +218,21 @@ def design_line(
     return build_line(sizing, sizing.presag_rel, progress)
 
 
+def _kept(results: list, sections: list[SurveySection], stage: str, failures: list[Evaluation]) -> list:
+    """The sections' results with each failed one (an error in its place) recorded in ``failures`` and
+    set to None; every one failing raises the first error."""
+    errors = [r for r in results if isinstance(r, PresagError)]
+    if errors and len(errors) == len(results):
+        raise errors[0]
+    for section, result in zip(sections, results, strict=True):
+        if isinstance(result, PresagError):
+            first, last = section.masts[0], section.masts[-1]
+            failures.append(Evaluation(index=len(failures), failure=f"{stage}: {failure_reason(result)}", inputs={
+                "section": section.section, "from_mast": first.mast, "to_mast": last.mast,
+                "chainage_m": [first.chainage, last.chainage]}))
+    return [None if isinstance(r, PresagError) else r for r in results]
+
+
 def _named(job: Callable, *args):
     """``job(*args)`` with the section's name in front of an error's message (the first argument is its catenary)."""
     try:
@@ -221,12 +245,16 @@ def _named(job: Callable, *args):
 
 def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str,
                  progress: Callable[[str], None] | None) -> list:
-    """Run ``job(*args)`` for every section, in worker processes where there are several."""
+    """Run ``job(*args)`` for every section, in worker processes where there are several; a section
+    whose job raises one of the package's errors gives that error in its place (the others go on)."""
     workers = min(workers, len(arguments), os.cpu_count() or 1)
     if workers < 2:
         out = []
         for i, args in enumerate(arguments, start=1):
-            out.append(_named(job, *args))
+            try:
+                out.append(_named(job, *args))
+            except PresagError as exc:
+                out.append(exc)
             if progress:
                 progress(f"{stage}: section {i}/{len(arguments)} done")
         return out
@@ -235,7 +263,7 @@ def _in_parallel(job: Callable, arguments: list[tuple], workers: int, stage: str
         for done, _ in enumerate(as_completed(futures), start=1):
             if progress:
                 progress(f"{stage}: sections done {done}/{len(arguments)}")
-        return [f.result() for f in futures]
+        return [f.exception() if isinstance(f.exception(), PresagError) else f.result() for f in futures]
 
 
 def _size_section(catenary: Catenary, levels, band: OperatingBand, step: float,

@@ -16,6 +16,7 @@ from presag_opt.design.evidence import DeltaERule, QuasiStaticRobust
 from presag_opt.design.line_rules import RuleCheck
 from presag_opt.design.recommendation import LayoutRecommendation
 from presag_opt.design.section import SectionElasticity
+from presag_opt.evaluation_store import Evaluation
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey
 
@@ -88,13 +89,15 @@ class LineSizing:
     options : LineOptions
         Pre-sag rule and numerics.
     sections : tuple of SurveySection
-        The survey's tension sections.
+        The survey's tension sections that were sized.
     sizing : tuple of SectionSizing
-        Each section sized.
+        Each of them sized.
     levels : tuple of float
         The elasticity force levels. [N]
     settings : StaticSettings
         The static model's settings.
+    failures : tuple of Evaluation
+        The sections that could not be sized, each with its masts and the one-line reason.
     """
 
     survey: Survey
@@ -105,6 +108,7 @@ class LineSizing:
     sizing: tuple[SectionSizing, ...]
     levels: tuple[float, ...]
     settings: StaticSettings
+    failures: tuple[Evaluation, ...] = ()
 
     @property
     def presag_rel(self) -> float:
@@ -298,6 +302,9 @@ class LineDesign:
     sections : tuple of SectionDesign
     notes : tuple of str
         What is not modelled or checked.
+    failures : tuple of Evaluation
+        The sections that could not be designed, each with its masts and the one-line reason (the
+        stage, sizing or building, in front of it); the line's pre-sag rests on the others.
     """
 
     survey: Survey
@@ -307,6 +314,17 @@ class LineDesign:
     presag_rel: float
     sections: tuple[SectionDesign, ...]
     notes: tuple[str, ...]
+    failures: tuple[Evaluation, ...] = ()
+
+    def failure_summary(self) -> str:
+        """One line: how many sections failed, the first one's reason and what the rest rests on ("" if none)."""
+        if not self.failures:
+            return ""
+        first = self.failures[0]
+        total = len(self.failures) + len(self.sections)
+        return (f"{len(self.failures)} of {total} sections could not be designed (first: section "
+                f"{first.inputs['section']}, {first.failure}); the pre-sag and the outputs are those of the other "
+                f"{len(self.sections)}")
 
     @property
     def spans(self) -> tuple[SpanDesign, ...]:

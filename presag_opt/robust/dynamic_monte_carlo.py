@@ -7,11 +7,17 @@ discretisation every speed of the grid needs) and all points of the grid run in 
 does (:mod:`presag_opt.robust.band_evaluation`). Per realisation the grid is reduced to three worst
 cases: the largest σ/F_m, the smallest statistical minimum F_m − 3σ and the largest steady-arm uplift.
 
-Resuming: with a ``store`` folder every finished realisation (and the error-free run) is kept as
-one small JSON file, written atomically, under a key of everything that decides it (system,
-pantograph, grid, numerics, design, error sizes, seed, sample count); a killed Monte Carlo run again
-with the same inputs reads them back and simulates only the rest, and a folder of another Monte
-Carlo is refused before any work.
+Failures: a realisation whose re-solve or one of whose runs fails is kept apart with its reason
+(:attr:`DynamicMonteCarloResult.failures`) and the others go on; the percentiles rest on the
+realisations that finished and say how many (``samples``). Only the error-free run must finish.
+
+Resuming: every finished (or failed) realisation and the error-free run are kept as one small JSON
+file each, written atomically (:class:`~presag_opt.evaluation_store.EvaluationStore`), under a key of
+everything that decides them (system, pantograph, grid, numerics, design, error sizes, seed, sample
+count): in the ``store`` folder given, else in a folder of this Monte Carlo in the cache directory
+when one is set (:func:`presag_opt.static.cache.evaluation_folder`; the command line sets it). A
+killed Monte Carlo run again with the same inputs reads them back and simulates only the rest; a
+folder of another Monte Carlo is refused before any work.
 
 Reproducibility: the errors of all realisations are drawn in the calling process from one seeded
 generator before any work is shared out; a run's result does not depend on the other runs of its
@@ -31,8 +37,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import hashlib
-import json
 import time as wallclock
 from collections.abc import Callable
 from concurrent.futures import as_completed
@@ -41,12 +45,12 @@ from pathlib import Path
 
 import numpy as np
 
-from presag_opt.atomic_files import storage_errors, write_atomic
 from presag_opt.design.band import KMH
 from presag_opt.dynamics.batch import simulate_installed, simulate_many
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.settings import SimulationSettings
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ConvergenceError, ModelError, PresagError, failure_reason
+from presag_opt.evaluation_store import Evaluation, EvaluationStore, analysis_key
 from presag_opt.processes import WorkerMemo, WorkerPolicy, run_job, worker_pool
 from presag_opt.robust.installation import (
     InstallationErrors,
@@ -56,6 +60,7 @@ from presag_opt.robust.installation import (
 from presag_opt.robust.monte_carlo import percentile_summary
 from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
 from presag_opt.robust.realisation import installed_state
+from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
@@ -108,13 +113,18 @@ class DynamicMonteCarloResult:
     nominal : RealisationRuns
         The error-free design on the same grid.
     realisations : tuple of RealisationRuns
-        One per sample, in the order drawn.
+        One per realisation that finished, in the order drawn.
     percentiles : dict
-        Per measure of :data:`MEASURES`, :class:`~presag_opt.robust.monte_carlo.Percentile` by level.
+        Per measure of :data:`MEASURES`, :class:`~presag_opt.robust.monte_carlo.Percentile` by level
+        (over the realisations that finished).
     wall_time : float
         Whole Monte Carlo, nominal included. [s]
     workers : int
         Processes used. [-]
+    failures : tuple of Evaluation
+        The realisations that failed, each with its index, the seed and the one-line reason.
+    store : str
+        Folder keeping every realisation ("" when none is kept).
     """
 
     errors: InstallationErrors
@@ -125,11 +135,22 @@ class DynamicMonteCarloResult:
     percentiles: dict
     wall_time: float
     workers: int
+    failures: tuple[Evaluation, ...] = ()
+    store: str = ""
 
     @property
     def samples(self) -> int:
-        """Realisations. [-]"""
+        """Realisations that finished: the sample size of the percentiles. [-]"""
         return len(self.realisations)
+
+    def failure_summary(self) -> str:
+        """One line: how many realisations failed, the first one's reason and what is left ("" if none)."""
+        if not self.failures:
+            return ""
+        first = self.failures[0]
+        kept = f"; kept in {self.store}" if self.store else ""
+        return (f"{len(self.failures)} of {len(self.failures) + self.samples} realisations failed (first: realisation "
+                f"{first.index}, {first.failure}); the percentiles rest on the {self.samples} that finished{kept}")
 
     def values(self, measure: str) -> np.ndarray:
         """One measure of every realisation (see :data:`MEASURES`)."""
@@ -139,32 +160,52 @@ class DynamicMonteCarloResult:
 def _realisation_runs(catenary: Catenary, pantograph, grid: OperatingGrid, settings: SimulationSettings,
                       static_settings: StaticSettings, presag_rel: float, sample: InstallationSample,
                       spacings=None, shared_structure: bool = True, memo: WorkerMemo | None = None,
-                      ) -> list[RealisationRuns]:
+                      ) -> list[RealisationRuns | str]:
     """Re-solve and simulate every realisation of ``sample`` (one worker's share) on the design,
     form-found once per memo (:func:`_nominal_state`; the memo of a worker's job serves all its
     tasks): all of them in one :func:`~presag_opt.dynamics.batch.simulate_installed` batch on the
-    design's structure, or each on its own structure (``shared_structure=False``)."""
+    design's structure, or each on its own structure (``shared_structure=False``). A realisation
+    whose re-solve or run fails gives the one-line reason instead of its worst cases."""
     nominal = _nominal_state(catenary, static_settings, presag_rel, memo or WorkerMemo(1))
     points = grid.points()
     started, cpu = wallclock.perf_counter(), wallclock.process_time()
-    states = [installed_state(nominal, sample, i) for i in range(sample.samples)]
+    out: list[RealisationRuns | str] = []
+    states = []
+    for i in range(sample.samples):
+        try:
+            states.append(installed_state(nominal, sample, i))
+            out.append("")
+        except PresagError as exc:
+            out.append(failure_reason(exc))
     if shared_structure:
-        batches = simulate_installed(nominal, states, pantograph, points, spacings=spacings, settings=settings)
+        batches = (simulate_installed(nominal, states, pantograph, points, spacings=spacings, settings=settings)
+                   if states else [])
     else:
-        batches = [simulate_many(state, pantograph, points, spacings=spacings, settings=settings) for state in states]
+        batches = []
+        for state in states:
+            try:
+                batches.append(simulate_many(state, pantograph, points, spacings=spacings, settings=settings))
+            except PresagError as exc:
+                batches.append(failure_reason(exc))
     # the batches are shared, so is their cost: each realisation is charged an equal part
     wall, processor = wallclock.perf_counter() - started, wallclock.process_time() - cpu
-    return [_worst_cases(batch, state.slack_dropper_count(), wall / len(batches),
-                         processor / len(batches)) for batch, state in zip(batches, states, strict=True)]
+    share = max(1, len(batches))
+    finished = iter(zip(batches, states, strict=True))
+    for i, failure in enumerate(out):
+        if failure:
+            continue
+        batch, state = next(finished)
+        out[i] = batch if isinstance(batch, str) else _worst_cases(batch, state.slack_dropper_count(), wall / share,
+                                                                  processor / share)
+    return out
 
 
-def _worst_cases(batch, slack_at_rest: int, wall_time: float, cpu_time: float) -> RealisationRuns:
-    """One realisation's grid reduced to its worst cases; a failed run raises."""
+def _worst_cases(batch, slack_at_rest: int, wall_time: float, cpu_time: float) -> RealisationRuns | str:
+    """One realisation's grid reduced to its worst cases, or the reason of its first failed run."""
     for run in batch.runs:
         if not run.ok:
             p = run.point
-            raise ConvergenceError(f"dynamic Monte Carlo: a run at {p.speed / KMH:g} km/h, F_stat "
-                                   f"{p.static_force:g} N failed: {run.error}", {"error": run.error})
+            return f"the run at {p.speed / KMH:g} km/h, F_stat {p.static_force:g} N failed: {run.error}"
     means = np.array([[s.mean_force for s in run.statistics] for run in batch.runs])
     sigmas = np.array([[s.std_force for s in run.statistics] for run in batch.runs])
     return RealisationRuns(
@@ -251,7 +292,8 @@ def dynamic_monte_carlo(
         Called with a short message as realisations finish.
     store : pathlib.Path, optional
         Folder keeping every finished realisation (created if missing); a rerun with the same inputs
-        reads them back and simulates only the others (see the module notes).
+        reads them back and simulates only the others (see the module notes). Default: a folder of
+        this Monte Carlo in the cache directory when one is set, else none.
 
     Raises
     ------
@@ -260,7 +302,7 @@ def dynamic_monte_carlo(
     StorageError
         A realisation's file cannot be written (the finished ones are kept).
     ConvergenceError
-        A re-solve or a run failed.
+        The error-free run failed, or every realisation did.
     """
     started = wallclock.perf_counter()
     if workers != int(workers) or not 1 <= workers <= 64:
@@ -277,32 +319,38 @@ def dynamic_monte_carlo(
                                      distribution=errors.distribution, seed=seed)
     sample = draws.scaled(errors)
     zero = draws.scaled(InstallationErrors(distribution=errors.distribution))
-    kept = _RealisationStore.open(store, (catenary, pantograph, grid, settings, spacings, static_settings,
-                                          float(presag_rel), errors, int(seed), int(samples), bool(shared_structure)))
-    found = kept.read(samples) if kept else {}
+    key = analysis_key(catenary, pantograph, grid, settings, spacings, static_settings, float(presag_rel), errors,
+                       int(seed), int(samples), bool(shared_structure))
+    folder = Path(store) if store is not None else cache.evaluation_folder("monte-carlo", key)
+    kept = (EvaluationStore.open(folder, key, f"dynamic Monte Carlo of {catenary.name}, S_rel {presag_rel * 1e3:.3f} ‰, "
+                                 f"{samples} realisations, seed {seed}") if folder is not None else None)
+    found = kept.read([NOMINAL, *range(samples)]) if kept else {}
     pending = [i for i in range(samples) if i not in found]
     tasks = [] if NOMINAL in found else [(NOMINAL, zero.row(0))]
     tasks += [(indices, _rows(sample, indices)) for indices in
               (pending[first:first + chunk] for first in range(0, len(pending), chunk))]
     job = functools.partial(_realisation_runs, catenary, pantograph, grid, settings, static_settings, presag_rel,
                             spacings=spacings, shared_structure=shared_structure, memo=memo)
-    runs: dict[int, RealisationRuns] = dict(found)
+    runs: dict[int, Evaluation] = dict(found)
     done = sum(i != NOMINAL for i in found)
 
-    def finished(indices, value: list[RealisationRuns]) -> None:
+    def finished(indices, value: list[RealisationRuns | str]) -> None:
         nonlocal done
         indices = [NOMINAL] if indices == NOMINAL else indices
         for i, realisation in zip(indices, value, strict=True):
-            runs[i] = realisation
+            failed = isinstance(realisation, str)
+            runs[i] = Evaluation(index=i, inputs={"realisation": i, "seed": int(seed)},
+                                 values={} if failed else dataclasses.asdict(realisation),
+                                 failure=realisation if failed else "")
             if kept:
-                kept.write(i, realisation)
+                kept.write(runs[i])
         done += 0 if indices == [NOMINAL] else len(indices)
         if progress:
             elapsed = wallclock.perf_counter() - started
             progress(f"dynamic Monte Carlo: {done}/{samples} realisations ({elapsed:.0f} s)")
 
     if found and progress:
-        progress(f"dynamic Monte Carlo: {done}/{samples} realisations read back from {store}")
+        progress(f"dynamic Monte Carlo: {done}/{samples} realisations read back from {folder}")
     if workers > 1 and len(tasks) > 1:
         with worker_pool(min(workers, len(tasks)), WorkerPolicy.PICKLED, job=job) as pool:
             futures = {pool.submit(run_job, rows): indices for indices, rows in tasks}
@@ -311,13 +359,18 @@ def dynamic_monte_carlo(
     else:
         for indices, rows in tasks:
             finished(indices, job(rows))
-    nominal = runs[NOMINAL]
-    realisations = tuple(runs[i] for i in range(samples))
+    if not runs[NOMINAL].ok:
+        raise ConvergenceError(f"dynamic Monte Carlo: the error-free design failed: {runs[NOMINAL].failure}")
+    failures = tuple(runs[i] for i in range(samples) if not runs[i].ok)
+    realisations = tuple(RealisationRuns(**runs[i].values) for i in range(samples) if runs[i].ok)
+    if not realisations:
+        raise ConvergenceError(f"dynamic Monte Carlo: all {samples} realisations failed (first: {failures[0].failure})")
     percentiles = {m: percentile_summary([getattr(r, m) for r in realisations], confidence=confidence)
                    for m in MEASURES}
-    return DynamicMonteCarloResult(errors=errors, seed=seed, presag_rel=presag_rel, nominal=nominal,
-                                   realisations=realisations, percentiles=percentiles,
-                                   wall_time=wallclock.perf_counter() - started, workers=int(workers))
+    return DynamicMonteCarloResult(errors=errors, seed=seed, presag_rel=presag_rel,
+                                   nominal=RealisationRuns(**runs[NOMINAL].values), realisations=realisations,
+                                   percentiles=percentiles, wall_time=wallclock.perf_counter() - started,
+                                   workers=int(workers), failures=failures, store=str(folder) if kept else "")
 
 
 def _rows(sample: InstallationSample, indices: list[int]) -> InstallationSample:
@@ -327,51 +380,3 @@ def _rows(sample: InstallationSample, indices: list[int]) -> InstallationSample:
 
 NOMINAL = -1
 """Index of the error-free run among the realisations of a Monte Carlo (and of its file in a store)."""
-
-
-@dataclass(frozen=True)
-class _RealisationStore:
-    """A folder of finished realisations: ``monte_carlo.json`` (the key) and one file per realisation."""
-
-    folder: Path
-    key: str
-
-    @classmethod
-    def open(cls, folder: Path | None, inputs: tuple) -> _RealisationStore | None:
-        """The store of these inputs in ``folder`` (None: no store); a folder of other inputs is refused."""
-        if folder is None:
-            return None
-        folder = Path(folder)
-        key = hashlib.sha256(repr(inputs).encode()).hexdigest()[:20]
-        manifest = folder / "monte_carlo.json"
-        with storage_errors(folder):
-            folder.mkdir(parents=True, exist_ok=True)
-            if manifest.exists():
-                saved = json.loads(manifest.read_text()).get("key")
-                if saved != key:
-                    raise ModelError(f"{folder}: holds the realisations of another Monte Carlo (other inputs); "
-                                     "give another folder or remove it")
-            else:
-                write_atomic(manifest, json.dumps({"key": key}).encode())
-        return cls(folder, key)
-
-    def _path(self, index: int) -> Path:
-        return self.folder / ("nominal.json" if index == NOMINAL else f"realisation_{index:05d}.json")
-
-    def read(self, samples: int) -> dict[int, RealisationRuns]:
-        """The finished realisations kept (and the error-free run), by index."""
-        out = {}
-        for index in [NOMINAL, *range(samples)]:
-            path = self._path(index)
-            if path.exists():
-                with storage_errors(path):
-                    saved = json.loads(path.read_text())
-                if saved.get("key") != self.key:
-                    raise ModelError(f"{path}: holds a realisation of another Monte Carlo; give another folder")
-                out[index] = RealisationRuns(**saved["runs"])
-        return out
-
-    def write(self, index: int, runs: RealisationRuns) -> None:
-        """Keep one finished realisation (atomically)."""
-        write_atomic(self._path(index), json.dumps({"key": self.key, "runs": dataclasses.asdict(runs)}).encode())
-

@@ -59,22 +59,26 @@ class Percentile:
     low, high : float
         Distribution-free confidence interval: the order statistics whose ranks bracket the
         percentile with the stated confidence (binomial ranks). [unit of the sample]
+    samples : int
+        Size of the sample the percentile is taken from (the interval narrows as it grows). [-]
     """
 
     level: float
     value: float
     low: float
     high: float
+    samples: int
 
     def to_dict(self, scale: float = 1.0) -> dict:
-        """``{"value", "ci"}`` with every number multiplied by ``scale``.
+        """``{"value", "ci", "n"}``: the value and interval with every number multiplied by ``scale``, and
+        the sample size.
 
         Parameters
         ----------
         scale : float
             Factor on every number, e.g. 1000 for m to mm. [-]
         """
-        return {"value": self.value * scale, "ci": [self.low * scale, self.high * scale]}
+        return {"value": self.value * scale, "ci": [self.low * scale, self.high * scale], "n": self.samples}
 
 
 def percentile_summary(values: np.ndarray, levels=PERCENTILES, confidence: float = 0.95) -> dict[int, Percentile]:
@@ -107,7 +111,7 @@ def percentile_summary(values: np.ndarray, levels=PERCENTILES, confidence: float
         lower = int(np.clip(stats.binom.ppf(alpha / 2, n, p), 1, n))
         upper = int(np.clip(stats.binom.ppf(1 - alpha / 2, n, p) + 1, 1, n))
         out[level] = Percentile(level=float(level), value=float(np.percentile(values, level)),
-                                low=float(values[lower - 1]), high=float(values[upper - 1]))
+                                low=float(values[lower - 1]), high=float(values[upper - 1]), samples=n)
     return out
 
 

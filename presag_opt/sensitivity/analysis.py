@@ -26,6 +26,7 @@ import re
 import tempfile
 import time
 from collections.abc import Callable, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -34,6 +35,7 @@ import numpy as np
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
 from presag_opt.dynamics.case import SimulationCase, load_case
 from presag_opt.errors import ModelError
+from presag_opt.evaluation_store import Evaluation, EvaluationStore, analysis_key
 from presag_opt.sensitivity.dynamic import (
     KMH,
     DynamicOutput,
@@ -46,6 +48,7 @@ from presag_opt.sensitivity.dynamic_robust import (
     DynamicRobustEvaluator,
     ScreeningNumerics,
 )
+from presag_opt.sensitivity.evaluation import RowEvaluations, evaluate_rows
 from presag_opt.sensitivity.inputs import (
     SPAN_LIST,
     SensitivityInput,
@@ -55,7 +58,6 @@ from presag_opt.sensitivity.inputs import (
 )
 from presag_opt.sensitivity.methods import (
     OutputIndices,
-    evaluate_rows,
     morris_design,
     morris_indices,
     sobol_design,
@@ -69,6 +71,7 @@ from presag_opt.sensitivity.quasi_static import (
     RecommendationEvaluator,
     RobustEvaluator,
 )
+from presag_opt.static import cache
 from presag_opt.system.loader import load_catenary
 
 METHODS = ("morris", "sobol", "spread")
@@ -77,7 +80,7 @@ METHODS = ("morris", "sobol", "spread")
 QUASI_STATIC = ("recommendation", "robust")
 DYNAMIC = ("dynamic", "minima", "validity")
 PER_SAMPLE = ("dynamic-robust",)
-"""Outputs whose samples run as one task each (:func:`~presag_opt.sensitivity.methods.evaluate_rows`)."""
+"""Outputs whose samples run as one task each (:func:`~presag_opt.sensitivity.evaluation.evaluate_rows`)."""
 OUTPUT_NAMES = (*QUASI_STATIC, *PER_SAMPLE, *(f"{k}:SPEEDS" for k in DYNAMIC))
 """Output names as the command line takes them."""
 
@@ -113,7 +116,17 @@ class SensitivityResult:
     rows : ndarray, shape (evaluations, inputs)
         The sample. [SI units of the inputs]
     values : ndarray, shape (evaluations, values)
-        The output at each row. [units of the tables]
+        The output at each row, NaN where its evaluation failed. [units of the tables]
+    failures : tuple of Evaluation
+        The failed evaluations, each with its inputs (display units) and the one-line reason; the
+        tables leave them out (``samples`` and ``dropped`` of each table say what that costs).
+    solver : dict
+        Counts and quantiles of the form-findings of the evaluations
+        (:func:`~presag_opt.static.solver_statistics.statistics_summary`; an evaluation read back from
+        the store brings those of the run that made it, so a resumed analysis reports what an
+        uninterrupted one does).
+    store : str
+        Folder keeping every finished evaluation ("" when none is kept).
     """
 
     case: str
@@ -129,6 +142,9 @@ class SensitivityResult:
     indices: tuple[OutputIndices, ...]
     rows: np.ndarray = field(repr=False, compare=False)
     values: np.ndarray = field(repr=False, compare=False)
+    failures: tuple[Evaluation, ...] = ()
+    solver: dict = field(default_factory=dict, compare=False)
+    store: str = field(default="", compare=False)
 
     def table(self, value: str) -> OutputIndices:
         """The indices of one value of the output, by name."""
@@ -144,7 +160,22 @@ class SensitivityResult:
                 "seconds_per_evaluation": self.seconds_first, "resolution": self.resolution,
                 "inputs": [i.to_dict() for i in self.inputs], "indices": [i.to_dict() for i in self.indices],
                 "design": (self.rows / np.array([i.factor for i in self.inputs])).tolist(),
-                "values": self.values.tolist()}
+                "values": self.values.tolist(),
+                "failed": len(self.failures),
+                "failures": [{"index": e.index, "inputs": e.inputs, "reason": e.failure} for e in self.failures],
+                "solver": self.solver, "store": self.store}
+
+    def failure_summary(self) -> str:
+        """One line: how many evaluations failed, the first one's reason and what was left out ("" if none)."""
+        if not self.failures:
+            return ""
+        unit = {"morris": "trajectories", "sobol": "base samples"}.get(self.method, "points")
+        table = self.indices[0]
+        first = self.failures[0]
+        kept = f"; kept in {self.store}" if self.store else ""
+        return (f"{len(self.failures)} of {self.evaluations} evaluations failed (first: evaluation {first.index}, "
+                f"{first.failure}); the indices rest on {table.samples} of {table.samples + table.dropped} "
+                f"{unit}{kept}")
 
 
 def parse_output(text: str) -> tuple[str, tuple[float, ...]]:
@@ -240,7 +271,9 @@ def sensitivity_analysis(
         Dask scheduler address (dynamic outputs).
     out : str or Path, optional
         Folder of the resumable stores: per-sample study stores (dynamic outputs), or one file per
-        evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs).
+        evaluation in ``OUT/<output>-<case>-<method>`` (quasi-static outputs). Default: a folder of the
+        analysis in the cache directory when one is set (:func:`presag_opt.static.cache.evaluation_folder`;
+        the command line sets it unless ``--no-cache``), else nothing is kept.
     resolution : Resolution, optional
         Numerics of dynamic outputs (default: a :class:`~presag_opt.sensitivity.dynamic.Resolution` with its defaults).
     numerics : ScreeningNumerics, optional
@@ -305,17 +338,24 @@ def sensitivity_analysis(
             numerics = numerics or ScreeningNumerics()
             evaluator = DynamicRobustEvaluator(catenary=case.catenary, pantograph=case.pantograph,
                                                operation=case.operation, names=names, numerics=numerics)
-        with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
-            folder = Path(out) if out is not None else Path(scratch)
-            store = folder / f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}"
-            evaluate_rows(evaluator, rows[:1], store=store)  # alone: its time is the cost announced
+        key = analysis_key(output, method, samples, seed, evaluator, rows.tobytes())
+        with _store_folder(out, f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}", key) as (folder, kept):
+            store = EvaluationStore.open(folder, key, f"presag sensitivity {case.name} --quantity {output} "
+                                                      f"--method {method} --seed {seed}")
+            labels = {"inputs": chosen, "value_names": [n for n, _ in value_names], "store": store}
+            read_back = len(store.read(range(len(rows))))
+            evaluate_rows(evaluator, rows[:1], **labels)  # alone: its time is the cost announced
             seconds_first = time.perf_counter() - start
-            _announce(announce, len(rows), seconds_first, workers)
+            if read_back and announce:
+                announce(f"{read_back} of {len(rows)} evaluations read back from {folder}; computing the other "
+                         f"{len(rows) - read_back}")
+            else:
+                _announce(announce, len(rows), seconds_first, workers)
             # half a Morris trajectory in one process: its steps in α_ae and the span list reuse form-findings
             # (halves, not whole trajectories, keep the two workers' last tasks short)
             chunk = max(1, (len(chosen) + 1) // 2) if method == "morris" and kind == "recommendation" else 1
-            values = evaluate_rows(evaluator, rows, workers=workers, scheduler=scheduler, chunk=chunk,
-                                   progress=progress, store=store)
+            evaluated = evaluate_rows(evaluator, rows, workers=workers, scheduler=scheduler, chunk=chunk,
+                                      progress=progress, **labels)
         text = numerics.text() if kind in PER_SAMPLE else ""
     else:
         resolution = resolution or Resolution()
@@ -323,16 +363,20 @@ def sensitivity_analysis(
         base = base_study(case)
         definitions = [spec.definition(base, roots, names, row) for row in rows]
         value_names = spec.value_names
-        with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
-            folder = Path(out) if out is not None else Path(scratch)
+        key = analysis_key(output, method, samples, seed, definitions)
+        with _store_folder(out, f"{kind}-{re.sub(r'[^A-Za-z0-9]+', '_', case.name)}-{method}", key,
+                           own_folder=False) as (folder, kept):
             run_definitions(definitions[:1], out=folder, workers=1)
             seconds_first = time.perf_counter() - start
             _announce(announce, len(rows), seconds_first, workers)
             datasets = run_definitions(definitions, out=folder, workers=workers, scheduler=scheduler,
                                        progress=progress)
-        values = np.vstack([spec.values(ds) for ds in datasets])
+        evaluated = RowEvaluations(tuple(_study_evaluation(i, row, chosen, spec, ds)
+                                         for i, (row, ds) in enumerate(zip(rows, datasets))),
+                                   tuple(n for n, _ in value_names))
         text = resolution.text()
     seconds = time.perf_counter() - start
+    values = evaluated.values
     if method == "spread":
         tables = tuple(spread_summary(values[:, j], output=name, unit=unit) for j, (name, unit) in enumerate(value_names))
     else:
@@ -341,7 +385,37 @@ def sensitivity_analysis(
                        for j, (name, unit) in enumerate(value_names))
     return SensitivityResult(case=case.name, output=output, method=method, inputs=tuple(chosen), samples=samples,
                              seed=seed, evaluations=len(rows), seconds=seconds, seconds_first=seconds_first,
-                             resolution=text, indices=tables, rows=rows, values=values)
+                             resolution=text, indices=tables, rows=rows, values=values, failures=evaluated.failures,
+                             solver=evaluated.solver_summary(), store=str(folder) if kept else "")
+
+
+@contextmanager
+def _store_folder(out: str | Path | None, name: str, key: str, own_folder: bool = True):
+    """The folder of an analysis' store and whether it is kept: ``OUT/name`` (``OUT`` itself for the
+    per-sample study stores, ``own_folder=False``), else the analysis' folder in the cache directory,
+    else a temporary folder removed at the end."""
+    if out is not None:
+        yield (Path(out) / name if own_folder else Path(out)), True
+        return
+    folder = cache.evaluation_folder(f"sensitivity-{name}", key)
+    if folder is not None:
+        yield folder, True
+        return
+    with tempfile.TemporaryDirectory(prefix="presag-sensitivity-") as scratch:
+        yield Path(scratch), False
+
+
+def _study_evaluation(index: int, row: np.ndarray, inputs: Sequence[SensitivityInput], spec: DynamicOutput,
+                      dataset) -> Evaluation:
+    """One sample's reduced study as an evaluation: failed when one of its runs failed (with the first reason)."""
+    shown = {i.name: float(v) / i.factor for i, v in zip(inputs, row)}
+    reasons = [str(r) for r in np.ravel(dataset["failure"].values) if str(r)]
+    if reasons:
+        return Evaluation(index=index, inputs=shown, failure=f"{len(reasons)} run(s) failed, first: {reasons[0]}")
+    values = spec.values(dataset)
+    if not np.all(np.isfinite(values)):
+        return Evaluation(index=index, inputs=shown, failure="the output has no finite value here")
+    return Evaluation(index=index, inputs=shown, values=dict(zip((n for n, _ in spec.value_names), map(float, values))))
 
 
 def _announce(announce: Callable[[str], None] | None, count: int, first: float, workers: int) -> None:

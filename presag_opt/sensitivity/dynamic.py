@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from presag_opt import runtime
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, run_job, worker_pool
+from presag_opt.sensitivity.evaluation import run_on_dask
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
@@ -236,7 +236,8 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             progress(f"runs: {finished}/{total}")
 
     if scheduler is not None:
-        _run_dask(definitions, tasks, scheduler, collect)
+        run_on_dask([(i, (definitions[i], group)) for i, group in tasks], scheduler, UnitRunner(), run_on_cluster,
+                    collect)
     elif workers == 1 or len(tasks) <= 1:
         runner = UnitRunner()
         for i, group in tasks:
@@ -247,23 +248,6 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             for future in as_completed(futures):
                 collect(futures[future], future.result())
     return [assemble(d, [results[i][u.key] for u in all_units(d)]) for i, d in enumerate(definitions)]
-
-
-def _run_dask(definitions, tasks, address: str, collect) -> None:
-    """The tasks on a Dask distributed cluster (as :func:`presag_opt.studies.runner.run_study` does)."""
-    from presag_opt.sensitivity.methods import dask_client
-
-    with dask_client(address) as client:
-        from distributed import as_completed as dask_completed
-
-        runner = client.scatter(UnitRunner(), broadcast=True)
-        futures = {client.submit(run_on_cluster, runner, runtime.current(), definitions[i], group, pure=False): i
-                   for i, group in tasks}
-        try:
-            for future in dask_completed(list(futures)):
-                collect(futures[future], future.result())
-        finally:
-            client.cancel(list(futures))
 
 
 def base_study(case) -> StudyDefinition:

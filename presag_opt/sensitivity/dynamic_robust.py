@@ -4,7 +4,7 @@ Each sample runs the dynamic robust study of the case-study band — the job beh
 ``presag robust --dynamic`` (:func:`presag_opt.robust.dynamic_study.dynamic_robust_study`: the
 quasi-static starts, the surrogate-guided search over S by batched simulation, the installation
 tolerance by simulation) — on its own catenary, pantograph and α_ae, at the screening numerics of
-:class:`ScreeningNumerics`. A sample is one task of :func:`presag_opt.sensitivity.methods.evaluate_rows`
+:class:`ScreeningNumerics`. A sample is one task of :func:`presag_opt.sensitivity.evaluation.evaluate_rows`
 (local worker processes or a Dask cluster, one file per finished sample in the resumable store): the
 search is adaptive, so its simulations cannot be split into the study units of a fixed grid.
 

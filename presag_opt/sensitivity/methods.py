@@ -1,9 +1,10 @@
 """Morris elementary effects and Sobol indices (SALib) over a model evaluated sample by sample.
 
 The sample design (:func:`morris_design`, :func:`sobol_design`) depends on the inputs, the sample
-size and the seed only; the evaluations (:func:`evaluate_rows`) run in worker processes and are put
-back in sample order, so the indices do not depend on the worker count. The analysis
-(:func:`morris_indices`, :func:`sobol_indices`) bootstraps confidence intervals with the same seed.
+size and the seed only; the evaluations (:func:`~presag_opt.sensitivity.evaluation.evaluate_rows`) run
+in worker processes and are put back in sample order, so the indices do not depend on the worker
+count. The analysis (:func:`morris_indices`, :func:`sobol_indices`) bootstraps confidence intervals
+with the same seed, from the trajectories or base samples whose evaluations all finished.
 
 References
 ----------
@@ -18,12 +19,9 @@ doi:10.21105/joss.00097.
 
 from __future__ import annotations
 
-import json
 import math
-from collections.abc import Callable, Sequence
-from concurrent.futures import as_completed
+from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from SALib.analyze import morris as morris_analyze
@@ -31,9 +29,7 @@ from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import morris as morris_sample
 from SALib.sample import sobol as sobol_sample
 
-from presag_opt.atomic_files import write_atomic
-from presag_opt.errors import ModelError
-from presag_opt.processes import WorkerPolicy, worker_pool
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.sensitivity.inputs import SensitivityInput
 
 CONFIDENCE = 0.95
@@ -116,7 +112,12 @@ class OutputIndices:
     sobol : tuple of SobolIndex
         Ranked Sobol table (empty for Morris).
     mean, std : float
-        Mean and standard deviation of the output over the samples. [unit]
+        Mean and standard deviation of the output over the evaluations used. [unit]
+    samples : int
+        What the estimate rests on: Morris trajectories, Sobol base samples (the effective sample size
+        N) or spread points, each with every one of its evaluations finished. [-]
+    dropped : int
+        Trajectories, base samples or points left out because one of their evaluations failed. [-]
     """
 
     output: str
@@ -126,6 +127,8 @@ class OutputIndices:
     sobol: tuple[SobolIndex, ...] = ()
     mean: float = math.nan
     std: float = math.nan
+    samples: int = 0
+    dropped: int = 0
 
     def ranked_names(self) -> tuple[str, ...]:
         """Input names, most important first."""
@@ -138,7 +141,7 @@ class OutputIndices:
                 or [{"input": s.name, "S1": s.first, "S1_conf": s.first_conf, "ST": s.total, "ST_conf": s.total_conf}
                     for s in self.sobol])
         return {"output": self.output, "unit": self.unit, "method": self.method, "mean": self.mean,
-                "std": self.std, "ranked": rows}
+                "std": self.std, "samples": self.samples, "dropped": self.dropped, "ranked": rows}
 
 
 def _problem(inputs: Sequence[SensitivityInput]) -> dict:
@@ -225,151 +228,44 @@ def spread_summary(values: np.ndarray, *, output: str, unit: str) -> OutputIndic
     Parameters
     ----------
     values : ndarray, shape (n,)
-        The output at each sample; non-finite values are left out. [unit]
+        The output at each sample; non-finite values (failed evaluations) are left out and counted. [unit]
     output : str
         Output name (for the table).
     unit : str
         Output unit (for the table).
     """
-    finite = values[np.isfinite(values)]
-    return OutputIndices(output=output, unit=unit, method="spread", mean=float(np.mean(finite)) if len(finite) else
-                         math.nan, std=float(np.std(finite)) if len(finite) else math.nan)
+    used = _used_groups(output, values, 1, "points", least=1)
+    finite = values[used]
+    return OutputIndices(output=output, unit=unit, method="spread", mean=float(np.mean(finite)),
+                         std=float(np.std(finite)), samples=int(used.sum()), dropped=int((~used).sum()))
 
 
-def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray, *, workers: int = 1,
-                  scheduler: str | None = None, chunk: int = 1,
-                  progress: Callable[[str], None] | None = None, store: Path | None = None) -> np.ndarray:
-    """Evaluate ``function`` at every row, in worker processes or on a Dask cluster, results in row order.
-
-    Parameters
-    ----------
-    function : callable
-        Picklable; maps one row of input values to a 1-D array of outputs.
-    rows : ndarray, shape (n, k)
-        Input values. [SI units of the inputs]
-    workers : int
-        Processes; 1 runs here. [-]
-    scheduler : str, optional
-        Address of a Dask distributed scheduler to run the rows on instead of local processes.
-    chunk : int
-        Rows ``chunk·j … chunk·(j + 1) − 1`` run as one task, one after the other in one process, so
-        that an evaluator can reuse work between consecutive rows (a Morris trajectory: ``k + 1``). [-]
-    progress : callable, optional
-        Called with a message (``"evaluations: done/total"``) after each task.
-    store : Path, optional
-        Folder keeping each finished evaluation (``row_NNNNN.json``, written atomically); a rerun
-        reads them back instead of computing. A file whose row differs from the design is refused.
-
-    Returns
-    -------
-    ndarray, shape (n, m)
-        Outputs.
-    """
-    if not 1 <= workers <= 1024:
-        raise ModelError(f"workers = {workers} is outside the valid range [1, 1024]")
-    if not 1 <= chunk <= max(1, len(rows)):
-        raise ModelError(f"chunk = {chunk} is outside the valid range [1, {max(1, len(rows))}] rows")
-    results: list[np.ndarray | None] = [None] * len(rows)
-    if store is not None:
-        store.mkdir(parents=True, exist_ok=True)
-        for i, row in enumerate(rows):
-            path = store / f"row_{i:05d}.json"
-            if path.exists():
-                saved = json.loads(path.read_text())
-                if saved["row"] != [float(v) for v in row]:
-                    raise ModelError(f"{path}: holds another design's evaluation; use another --out folder")
-                results[i] = np.array(saved["values"], dtype=float)
-    pending = [i for i, r in enumerate(results) if r is None]
-    tasks: dict[int, list[int]] = {}
-    for i in pending:
-        tasks.setdefault(i // chunk, []).append(i)
-    done = len(rows) - len(pending)
-
-    def finish(indices: list[int], values: list) -> None:
-        nonlocal done
-        for i, value in zip(indices, values):
-            results[i] = np.atleast_1d(np.asarray(value, dtype=float))
-            if store is not None:
-                write_atomic(store / f"row_{i:05d}.json",
-                             json.dumps({"row": [float(v) for v in rows[i]], "values": results[i].tolist()}).encode())
-        done += len(indices)
-        if progress:
-            progress(f"evaluations: {done}/{len(rows)}")
-
-    batches = [(indices, rows[indices]) for indices in tasks.values()]
-    if scheduler is not None:
-        _run_dask(function, batches, scheduler, finish)
-    elif workers == 1 or len(batches) <= 1:
-        for indices, block in batches:
-            finish(indices, evaluate_block(function, block))
-    else:
-        with worker_pool(min(workers, len(batches)), WorkerPolicy.PICKLED) as pool:
-            futures = {pool.submit(evaluate_block, function, block): indices for indices, block in batches}
-            for future in as_completed(futures):
-                finish(futures[future], future.result())
-    return np.vstack(results) if len(rows) else np.zeros((0, 0))
+MIN_GROUPS = 2
+"""Fewest Morris trajectories or Sobol base samples an estimate is made from. [-]"""
 
 
-def evaluate_block(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray) -> list[np.ndarray]:
-    """``function`` at each row, in order, in this process (one task of :func:`evaluate_rows`).
-
-    Parameters
-    ----------
-    function : callable
-        Maps one row to a 1-D array of outputs.
-    rows : ndarray, shape (n, k)
-        Input values. [SI units of the inputs]
-    """
-    return [np.asarray(function(row), dtype=float) for row in rows]
-
-
-def dask_client(address: str):
-    """A Dask distributed client of the scheduler at ``address`` (one clear line if it cannot connect).
-
-    Parameters
-    ----------
-    address : str
-        Scheduler address, e.g. ``tcp://host:8786``.
+def _used_groups(output: str, values: np.ndarray, size: int, what: str, least: int = MIN_GROUPS) -> np.ndarray:
+    """Which groups of ``size`` consecutive rows (a trajectory, a base sample) have every value finite.
 
     Raises
     ------
-    ModelError
-        Dask distributed is not installed, or the scheduler does not answer within 20 s.
+    ConvergenceError
+        Fewer than ``least`` groups are left.
     """
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
-    try:
-        return Client(str(address), timeout="20s")
-    except (OSError, TimeoutError) as exc:
-        raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
-
-
-def _run_dask(function, batches, address: str, finish) -> None:
-    """The tasks on a Dask distributed cluster."""
-    from distributed import as_completed as dask_completed
-
-    with dask_client(address) as client:
-        futures = {client.submit(evaluate_block, function, block, pure=False): indices for indices, block in batches}
-        try:
-            for future in dask_completed(list(futures)):
-                finish(futures[future], future.result())
-        finally:
-            client.cancel(list(futures))
-
-
-def _check_finite(output: str, values: np.ndarray, rows: np.ndarray, inputs: Sequence[SensitivityInput]) -> None:
-    bad = np.nonzero(~np.isfinite(values))[0]
-    if len(bad):
-        shown = ", ".join(f"{i.name} = {v / i.factor:g} {i.unit}" for i, v in zip(inputs, rows[bad[0]]))
-        raise ModelError(f"output {output}: {len(bad)} of {len(values)} evaluations gave no finite value "
-                         f"(first at {shown}); narrow the ranges")
+    used = np.isfinite(values).reshape(-1, size).all(axis=1)
+    if used.sum() < least:
+        raise ConvergenceError(f"output {output}: {len(used) - used.sum()} of {len(used)} {what} hold a failed "
+                               f"evaluation; fewer than {least} are left to estimate from")
+    return used
 
 
 def morris_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values: np.ndarray, *, output: str,
                    unit: str, seed: int) -> OutputIndices:
     """Morris μ*, its confidence interval and σ of one output, ranked by μ*.
+
+    A trajectory with a failed evaluation (a non-finite value) has lost an elementary effect of one
+    input, two if the point is inside it: it is dropped whole, so that every input keeps the same
+    number of effects, and counted (``dropped``).
 
     Parameters
     ----------
@@ -384,7 +280,9 @@ def morris_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values:
     seed : int
         Seed of the bootstrap. [-]
     """
-    _check_finite(output, values, rows, inputs)
+    groups = _used_groups(output, values, len(inputs) + 1, "trajectories")
+    used = np.repeat(groups, len(inputs) + 1)
+    rows, values = rows[used], values[used]
     res = morris_analyze.analyze(_problem(inputs), rows, values, num_resamples=RESAMPLES, conf_level=CONFIDENCE,
                                  num_levels=MORRIS_LEVELS, seed=seed)
     top = float(np.max(res["mu_star"]))
@@ -393,14 +291,18 @@ def morris_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values:
                for n, m, c, s in zip(res["names"], res["mu_star"], res["mu_star_conf"], res["sigma"])]
     effects.sort(key=lambda e: -e.mu_star)
     return OutputIndices(output=output, unit=unit, method="morris", morris=tuple(effects),
-                         mean=float(np.mean(values)), std=float(np.std(values)))
+                         mean=float(np.mean(values)), std=float(np.std(values)), samples=int(groups.sum()),
+                         dropped=int((~groups).sum()))
 
 
 def sobol_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values: np.ndarray, *, output: str,
                   unit: str, seed: int) -> OutputIndices:
     """Sobol S1 and ST of one output with bootstrap confidence intervals, ranked by ST.
 
-    An output that does not vary over the sample has no variance to share: all indices are 0.
+    An output that does not vary over the sample has no variance to share: all indices are 0. A base
+    sample with a failed evaluation (a non-finite value among its k + 2 rows) is dropped whole: the
+    estimators then run on the N' base samples left, the effective sample size (``samples``; the
+    confidence intervals widen as 1/√N').
 
     Parameters
     ----------
@@ -417,16 +319,18 @@ def sobol_indices(inputs: Sequence[SensitivityInput], rows: np.ndarray, values: 
     seed : int
         Seed of the bootstrap. [-]
     """
-    _check_finite(output, values, rows, inputs)
+    groups = _used_groups(output, values, len(inputs) + 2, "base samples")
+    counts = {"samples": int(groups.sum()), "dropped": int((~groups).sum())}
+    values = values[np.repeat(groups, len(inputs) + 2)]
     if np.ptp(values) == 0.0:
         zero = [SobolIndex(name=i.name, first=0.0, first_conf=0.0, total=0.0, total_conf=0.0) for i in inputs]
         return OutputIndices(output=output, unit=unit, method="sobol", sobol=tuple(zero),
-                             mean=float(values[0]), std=0.0)
+                             mean=float(values[0]), std=0.0, **counts)
     res = sobol_analyze.analyze(_problem(inputs), values, calc_second_order=False, num_resamples=RESAMPLES,
                                 conf_level=CONFIDENCE, seed=seed)
     rows_out = [SobolIndex(name=i.name, first=float(s1), first_conf=float(c1), total=float(st), total_conf=float(ct))
                 for i, s1, c1, st, ct in zip(inputs, res["S1"], res["S1_conf"], res["ST"], res["ST_conf"])]
     rows_out.sort(key=lambda s: -s.total)
     return OutputIndices(output=output, unit=unit, method="sobol", sobol=tuple(rows_out),
-                         mean=float(np.mean(values)), std=float(np.std(values)))
+                         mean=float(np.mean(values)), std=float(np.std(values)), **counts)
 

@@ -2,7 +2,7 @@
 
 Each evaluator is a picklable callable that takes one row of input values (SI, in the order of its
 ``names``) and returns the output values in edge units (‰, -); the methods run it in worker
-processes (:func:`presag_opt.sensitivity.methods.evaluate_rows`).
+processes (:func:`presag_opt.sensitivity.evaluation.evaluate_rows`).
 """
 
 from __future__ import annotations
@@ -19,14 +19,8 @@ from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand, force_levels_
 from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import section_elasticity
 from presag_opt.sensitivity.inputs import SPAN_LIST, apply_inputs
-from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
-
-SAMPLE_SETTINGS = StaticSettings(geometry_tolerance=0.5e-3)
-"""Static settings of the samples: the form-found geometry within 0.5 mm instead of 0.05 mm (some
-samples of the screening of the recommendation missed 0.05 mm by about 0.01 mm and stopped it). A
-0.5 mm geometry error is 0.008 ‰ of a 60 m span, far below the effects screened."""
 
 RECOMMENDATION_VALUES = (
     ("presag_rel_ideal", "‰"), ("presag_rel_mixed", "‰"), ("presag_rel", "‰"), ("mixed_to_ideal", "-"),
@@ -94,7 +88,7 @@ class Reuse:
         Parameters
         ----------
         catenary : Catenary
-            The layout (form-found here at :data:`SAMPLE_SETTINGS` unless kept).
+            The layout (form-found here at the default static settings unless kept).
         band : OperatingBand
             The operating band. [N], [m/s]
         levels : tuple of float
@@ -105,7 +99,7 @@ class Reuse:
         key = pickle.dumps(catenary)
 
         def state():
-            return form_find(catenary, SAMPLE_SETTINGS)
+            return form_find(catenary)
 
         def make():
             found, reused = self._get(self.states, key, state)
@@ -195,6 +189,6 @@ class RobustEvaluator:
 
         band = _band_with(self.band, self.names, row)
         cat = _catenary_with(self.catenary, self.names, row, span_list=True)
-        study = robust_study(cat, band.mean_force_band(), within=self.within, settings=SAMPLE_SETTINGS)
+        study = robust_study(cat, band.mean_force_band(), within=self.within)
         low, high = study.tolerance.low, study.tolerance.high
         return np.array([study.robust.presag_rel, low, high, high - low]) * 1e3

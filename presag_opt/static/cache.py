@@ -1,4 +1,4 @@
-"""On-disk cache of form-found states.
+"""On-disk cache of form-found states (and where long analyses keep their finished evaluations).
 
 Form-finding (an IPOPT solve, and building the solver) is the largest fixed cost of the everyday
 commands, and its result depends only on the catenary, the static settings and the code. The cache
@@ -17,12 +17,19 @@ cache unless a runtime with a cache folder is in force; the ``presag`` command l
 folder is the user's cache directory (:func:`presag_opt.runtime.default_cache_directory`) unless
 ``--no-cache`` is given or ``PRESAG_NO_CACHE`` is set. Worker processes receive their parent's runtime,
 so they read and write the same folder.
+
+The same folder holds, in its ``evaluations`` subfolder, the finished evaluations of long
+analyses (:func:`evaluation_folder`, :mod:`presag_opt.evaluation_store`): an analysis killed or
+stopped by a failure resumes from them when run again.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import json
 import os
+import shutil
 import tempfile
 import zipfile
 from dataclasses import fields
@@ -57,6 +64,49 @@ def clear(directory: str | Path) -> int:
         path.unlink(missing_ok=True)
         removed += 1
     return removed
+
+
+EVALUATIONS = "evaluations"
+"""Subfolder of the cache directory holding the finished evaluations of long analyses, one folder each
+(:mod:`presag_opt.evaluation_store`)."""
+
+MAX_EVALUATION_STORES = 16
+"""Analyses whose evaluations are kept; the least recently used beyond this are deleted (a screening
+keeps about 1 kB per evaluation). [-]"""
+
+
+def evaluation_folder(label: str, key: str) -> Path | None:
+    """The folder keeping the finished evaluations of one analysis, or None without a cache.
+
+    ``<cache directory>/evaluations/<label>-<key>``; opening one deletes the least recently used
+    folders beyond :data:`MAX_EVALUATION_STORES` (a folder is used when its store is opened).
+
+    Parameters
+    ----------
+    label : str
+        What the analysis is (letters, digits, ``-`` and ``_``), e.g. ``sensitivity-recommendation``.
+    key : str
+        The analysis' key (:func:`presag_opt.evaluation_store.analysis_key`).
+    """
+    active = active_directory()
+    if active is None:
+        return None
+    root = active / EVALUATIONS
+    folder = root / f"{label}-{key}"
+    others = [p for p in root.iterdir() if p.is_dir() and p != folder] if root.is_dir() else []
+    others.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+    for stale in others[MAX_EVALUATION_STORES - 1:]:
+        shutil.rmtree(stale, ignore_errors=True)
+    return folder
+
+
+def clear_evaluations(directory: str | Path) -> int:
+    """Delete the kept evaluations of every analysis in ``directory``; return how many analyses."""
+    root = Path(directory) / EVALUATIONS
+    folders = [p for p in root.iterdir() if p.is_dir()] if root.is_dir() else []
+    for folder in folders:
+        shutil.rmtree(folder, ignore_errors=True)
+    return len(folders)
 
 
 def _code_fingerprint() -> str:
@@ -136,11 +186,14 @@ def store(key: str, arrays: dict[str, np.ndarray]) -> None:
 
 
 def state_arrays(state: EquilibriumState) -> dict[str, np.ndarray]:
-    """The numeric content of a state, as stored: coordinates [m], applied load [N], iterations [-]
-    and the element parameters (``params_<field>``, in their units)."""
+    """The numeric content of a state, as stored: coordinates [m], applied load [N], iterations [-],
+    the form-finding's statistics (JSON text) and the element parameters (``params_<field>``, in their
+    units)."""
     names = [f.name for f in fields(state.params)]
+    solver = {} if state.form_finding is None else {"form_finding": np.array(json.dumps(state.form_finding.to_dict()))}
     return {"positions": state.positions, "applied_load": state.applied_load,
-            "iterations": np.array(state.iterations), **{f"params_{n}": getattr(state.params, n) for n in names}}
+            "iterations": np.array(state.iterations), **solver,
+            **{f"params_{n}": getattr(state.params, n) for n in names}}
 
 
 def state_from_arrays(model: StaticModel, arrays: dict[str, np.ndarray] | None) -> EquilibriumState | None:
@@ -156,13 +209,17 @@ def state_from_arrays(model: StaticModel, arrays: dict[str, np.ndarray] | None) 
     """
     from presag_opt.static.equilibrium import EquilibriumState  # the static model loads CasADi
     from presag_opt.static.potential import PhysicalParameters
+    from presag_opt.static.solver_statistics import FormFindingStatistics
 
     if arrays is None:
         return None
     disc = model.discretisation
     try:
         params = PhysicalParameters(**{f.name: arrays[f"params_{f.name}"] for f in fields(PhysicalParameters)})
-        state = EquilibriumState(model, arrays["positions"], params, arrays["applied_load"], int(arrays["iterations"]))
+        solver = (dataclasses.replace(FormFindingStatistics.from_dict(json.loads(str(arrays["form_finding"]))),
+                                      cached=True) if "form_finding" in arrays else None)
+        state = EquilibriumState(model, arrays["positions"], params, arrays["applied_load"], int(arrays["iterations"]),
+                                 solver)
     except (KeyError, TypeError, ValueError):
         return None
     expected = {"positions": (disc.n_nodes, 3), "applied_load": (disc.n_dofs,),

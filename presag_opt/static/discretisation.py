@@ -28,7 +28,9 @@ not the y axis, the across-track hold is a stiff spring along the normal
 
 Plan geometry: masts lie on the track centre line, which is straight or, per span, a circular arc;
 the contact wire is registered ``±stagger`` off the centre line, alternating, and the messenger wire
-is vertically above it at the masts. Wire segments between masts are straight chords in plan.
+is vertically above it at the masts. Wire segments between masts are straight chords in plan. The
+plan is turned so that the track runs along x at the mid-point anchor, where x is the held degree of
+freedom: the anchor then holds the wires along the track on a curve too.
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ from presag_opt.static.section_elements import (  # the element groups and types
     SectionElements,
 )
 from presag_opt.static.section_geometry import (
+    check_dropper_room,
     design_wire_positions,
     mast_normals,
     section_stations,
@@ -296,7 +299,12 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     spans = np.asarray(cat.layout.span_lengths)
     n_spans = len(spans)
     stations = section_stations(cat, settings.element_length)
-    track_xy, heading = track_plan(spans, np.asarray(cat.layout.radii))
+    anchor = n_spans // 2  # mast of the mid-point anchor
+    # The plan is turned so that the track runs along x at the anchor: holding x there holds the
+    # wires along the track, as the anchor does. Held along another direction on a curve, the
+    # along-track force the anchor takes (the two halves' tension difference) would load the
+    # steady arm there sideways and move the contact wire off its target height.
+    track_xy, heading = track_plan(spans, np.asarray(cat.layout.radii), along_x_at=anchor)
     normal = mast_normals(heading)
     cw_pos, mw_pos = design_wire_positions(cat, stations, track_xy, normal)
     n_st = len(stations.station)
@@ -310,8 +318,9 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
                                   (mw_nodes, cat.messenger_wire, MESSENGER_WIRE, mw_pos)):
         parts.add_wire(nodes, wire, grp, pos)
     first_dropper = parts.n_axial
-    n_droppers = parts.add_droppers(cat, cw_nodes[stations.is_dropper], mw_nodes[stations.is_dropper],
-                                    mw_pos[stations.is_dropper, 2] - cw_pos[stations.is_dropper, 2])
+    dropper_lengths = mw_pos[stations.is_dropper, 2] - cw_pos[stations.is_dropper, 2]
+    check_dropper_room(cat, stations, dropper_lengths, settings.min_dropper_length)
+    n_droppers = parts.add_droppers(cat, cw_nodes[stations.is_dropper], mw_nodes[stations.is_dropper], dropper_lengths)
     stitch = add_stitch_wires(parts, cat, stations, cw_nodes, mw_nodes, cw_pos, mw_pos)
     # All droppers (the stitch droppers too) in along-track order of their contact-wire nodes.
     drop_elements = np.concatenate([first_dropper + np.arange(n_droppers), stitch.dropper_elements])
@@ -321,8 +330,7 @@ def discretise(catenary: Catenary, settings: StaticSettings | None = None) -> Di
     parts.add_contact_wire_supports(cat.contact_wire_support, mast_cw)
     parts.add_messenger_wire_supports(cat.messenger_wire_support, mast_mw, normal)
 
-    # Mid-point anchor: both wires fixed along the track at the central mast.
-    anchor = n_spans // 2
+    # Mid-point anchor: both wires fixed along the track (x, see above) at the central mast.
     parts.fixed[mast_cw[anchor], 0] = True
     parts.fixed[mast_mw[anchor], 0] = True
 

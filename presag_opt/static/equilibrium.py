@@ -28,6 +28,7 @@ from presag_opt.static.discretisation import (
 )
 from presag_opt.static.newton import NewtonTerms, newton_equilibrium, newton_solve
 from presag_opt.static.potential import PhysicalParameters, PotentialFunctions, build_potential
+from presag_opt.static.solver_statistics import FormFindingStatistics
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.components import Damping, Wire
 
@@ -126,6 +127,8 @@ class EquilibriumState:
         Nodal forces applied on top of gravity and the balance weights. [N]
     iterations : int
         Solver iterations that produced this state. [-]
+    form_finding : FormFindingStatistics or None
+        How the form-finding that produced it went (None for a state re-solved under a load).
     """
 
     model: StaticModel
@@ -133,6 +136,7 @@ class EquilibriumState:
     params: PhysicalParameters
     applied_load: np.ndarray
     iterations: int = 0
+    form_finding: FormFindingStatistics | None = field(default=None, compare=False)
     memo: StateMemo = field(default_factory=StateMemo, init=False, repr=False, compare=False)
     """What the state computes once (not part of its value)."""
 

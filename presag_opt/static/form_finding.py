@@ -4,11 +4,15 @@
 :mod:`presag_opt.static.form_finding_solver`, then a Newton relaxation of the full model,
 :mod:`presag_opt.static.newton`), checks the result and returns the
 :class:`~presag_opt.static.equilibrium.EquilibriumState`, reading it from the cache of form-found
-states (:mod:`presag_opt.static.cache`) when one is set. :func:`dropper_height_sensitivity` is how the
+states (:mod:`presag_opt.static.cache`) when one is set, with its solver statistics
+(:mod:`presag_opt.static.solver_statistics`). :func:`check_form_finding_inputs` refuses, before any
+solve, a section that has no form-found state. :func:`dropper_height_sensitivity` is how the
 form-found heights move with the dropper targets.
 """
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 
@@ -27,6 +31,7 @@ from presag_opt.static.form_finding_equations import target_height_sensitivity
 from presag_opt.static.form_finding_solver import solve_form_finding
 from presag_opt.static.newton import force_tolerance, newton_equilibrium
 from presag_opt.static.potential import PhysicalParameters
+from presag_opt.static.solver_statistics import FormFindingStatistics, record
 from presag_opt.system.catenary import Catenary
 
 
@@ -40,7 +45,9 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     wire's get the unstretched lengths that carry that tension in the form-found shape. Solved with IPOPT
     as one square system (see :func:`presag_opt.static.form_finding_solver.solve_form_finding`). With a cache
     folder in the runtime in force (:attr:`presag_opt.runtime.Runtime.state_cache`), a state form-found before for the
-    same catenary, settings and code is read back instead.
+    same catenary, settings and code is read back instead. The state carries the solve's statistics
+    (:attr:`~presag_opt.static.equilibrium.EquilibriumState.form_finding`), also given to an open
+    :func:`~presag_opt.static.solver_statistics.recording`.
 
     Parameters
     ----------
@@ -59,8 +66,9 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     ConvergenceError
         If IPOPT fails or the result misses the equilibrium or geometry tolerance.
     ModelError
-        If ``catenary`` is not a :class:`Catenary` (e.g. a model name), or the geometry cannot be
-        built: a dropper would have to push, or would be shorter than ``settings.min_dropper_length``.
+        If ``catenary`` is not a :class:`Catenary` (e.g. a model name); before any solve, what
+        :func:`check_form_finding_inputs` refuses; after it, a dropper that would have to push or is
+        shorter than ``settings.min_dropper_length``.
     """
     if not isinstance(catenary, Catenary):
         hint = " (load a model first: form_find(load_catenary(name)))" if isinstance(catenary, str) else ""
@@ -72,15 +80,43 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     if key is not None:
         state = cache.state_from_arrays(static_model(catenary, settings), cache.load(key))
         if state is not None:
+            record(state.form_finding)
             return state
     state = _form_find(catenary, settings)
+    record(state.form_finding)
     if key is not None:
         cache.store(key, cache.state_arrays(state))
     return state
 
+
+def check_form_finding_inputs(catenary: Catenary, settings: StaticSettings | None = None) -> None:
+    """Refuse, before any solve, a section that has no form-found state, in one line that says where and why.
+
+    The discretisation refuses (:func:`~presag_opt.static.discretisation.discretise`): a steady arm the
+    contact wire does not pull sideways (no vertical stiffness,
+    :func:`~presag_opt.static.section_geometry.steady_arm_pivots`), and a dropper that cannot be cut
+    (:func:`~presag_opt.static.section_geometry.check_dropper_room`). :func:`form_find` checks the same
+    first.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        System model.
+    settings : StaticSettings, optional
+        Numerical settings (``min_dropper_length``).
+
+    Raises
+    ------
+    ModelError
+        The section cannot be form-found, with the reason.
+    """
+    static_model(catenary, settings or StaticSettings())
+
+
 def _form_find(catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
     """:func:`form_find` without the cache."""
-    model = static_model(catenary, settings)
+    started = time.perf_counter()
+    model = static_model(catenary, settings)  # refuses what check_form_finding_inputs refuses
     disc = model.discretisation
     ax = disc.axial
     x_design = disc.design_positions.ravel()
@@ -107,21 +143,32 @@ def _form_find(catenary: Catenary, settings: StaticSettings) -> EquilibriumState
     )
     target_dofs = _target_dofs(disc)
     targets = x_design[target_dofs]
-    start = x_design
-    iterations = 0
-    # Pass 1 holds the wire nodes at their designed places along the wires; the 3-D relaxation
-    # that follows lets them slide a little (on curves, enough to move the contact wire by a few
-    # tenths of a millimetre), so a further pass starts from the relaxed places.
+    start, aim = x_design, targets
+    ipopt_iterations = newton_iterations = restarts = passes = 0
+    # The form-finding equations hold the wire nodes at their places along the wires and take the
+    # wires as strings; the full model's relaxation that follows lets the nodes slide and bend, and
+    # moves the targets by what that leaves out (bending at the kinks in plan, next to a soft
+    # push-off arm by up to about 0.1 mm). That shift hardly depends on the targets, so a further
+    # pass aims at the targets less the shift the last one left, from the relaxed places.
     for _ in range(FORM_FINDING_PASSES):
+        passes += 1
         solution = solve_form_finding(disc, params, wire_tension, target_dofs, start)
         params = _form_found_parameters(disc, params, solution, wire_tension, axial_stiffness)
-        x, newton_iterations = newton_equilibrium(model, params, solution.positions.ravel(), settings)
-        iterations += solution.iterations + newton_iterations
-        if np.abs(x[target_dofs] - targets).max() <= settings.geometry_tolerance:
+        x, relaxation = newton_equilibrium(model, params, solution.positions.ravel(), settings)
+        ipopt_iterations += solution.iterations
+        restarts += solution.restarts
+        newton_iterations += relaxation
+        miss = x[target_dofs] - targets
+        if np.abs(miss).max() <= settings.geometry_tolerance:
             break
+        aim = aim - miss
         start = x.copy()
-        start[target_dofs] = targets
-    state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs), iterations)
+        start[target_dofs] = aim
+    statistics = FormFindingStatistics(passes=passes, ipopt_iterations=ipopt_iterations,
+                                       newton_iterations=newton_iterations, restarts=restarts,
+                                       seconds=time.perf_counter() - started)
+    state = EquilibriumState(model, x.reshape(-1, 3), params, np.zeros(disc.n_dofs),
+                             ipopt_iterations + newton_iterations, statistics)
     _check_form_found(state, target_dofs, targets)
     return state
 
@@ -159,29 +206,39 @@ def dropper_height_sensitivity(state: EquilibriumState) -> np.ndarray:
 def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
     """Horizontal tension of every wire segment in the design state (0 for other elements). [N]
 
-    A balance weight pulls with T along the track (a stitch wire, see below, with its given tension); where the end chord of a wire is turned by φ
-    against the track (stagger, curve), balance along the track at the end (the steady arm lies in
-    the mast plane) gives the wire a horizontal tension T/cos φ. The mid-point anchor separates the
-    two halves, each set by its own end.
+    Between two masts a wire is a straight chord in plan, loaded only vertically (weights, droppers)
+    and across (sideways moves), so its horizontal tension H is one value per span. At a mast the
+    steady arm and the messenger-wire pin hold the wire in the mast plane only, so the wire's pull
+    along the track balances there: H·cos φ is the same on both sides, φ the angle of each side's
+    chord to the track at that mast (stagger change, curve). At a section end the balance weight
+    pulls with T along the track: H = T/cos φ. So H passes from the ends inwards, span by span; the
+    mid-point anchor, which takes the difference, separates the two halves. (A stitch wire is held
+    at its own tension, see below.)
     """
     ax = disc.axial
     pos = disc.design_positions
     tension = np.zeros(len(ax))
-    anchor = (len(disc.mast_station) - 1) // 2  # mast index of the mid-point anchor
+    n_spans = len(disc.mast_station) - 1
+    anchor = n_spans // 2  # mast index of the mid-point anchor
+    chord = np.diff(pos[disc.mast_cw_node, :2], axis=0)
+    chord /= np.linalg.norm(chord, axis=1)[:, None]
+    track = np.column_stack([disc.mast_normal[:, 1], -disc.mast_normal[:, 0]])  # along the track at each mast
+    cos_near = np.abs(np.sum(chord * track[:-1], axis=1))  # each span's chord against the track at its first mast
+    cos_far = np.abs(np.sum(chord * track[1:], axis=1))  # ... and at its second
+    per_tension = np.empty(n_spans)  # H/T of every span
+    per_tension[0] = 1.0 / cos_near[0]
+    for span in range(1, anchor):
+        per_tension[span] = per_tension[span - 1] * cos_far[span - 1] / cos_near[span]
+    per_tension[-1] = 1.0 / cos_far[-1]
+    for span in range(n_spans - 2, anchor - 1, -1):
+        per_tension[span] = per_tension[span + 1] * cos_near[span + 1] / cos_far[span]
+    span_of_node = np.clip(np.searchsorted(disc.mast_station, disc.cw_station, side="right") - 1, 0, n_spans - 1)
     for group, nodes in ((CONTACT_WIRE, disc.cw_nodes), (MESSENGER_WIRE, disc.mw_nodes)):
-        segments = np.flatnonzero(ax.group == group)  # in order along the wire
+        segments = np.flatnonzero(ax.group == group)  # in order along the wire, segment j from node j
         if not len(segments):
             continue
-        halves = []
-        for end, inner in ((nodes[0], nodes[1]), (nodes[-1], nodes[-2])):
-            chord = pos[end] - pos[inner]
-            chord[2] = 0.0
-            pull = disc.termination_force[3 * end : 3 * end + 3]
-            cos_phi = float(pull @ chord) / (np.linalg.norm(pull) * np.linalg.norm(chord))
-            halves.append(float(np.linalg.norm(pull)) / cos_phi)
-        split = int(np.searchsorted(disc.cw_station, disc.mast_station[anchor]))
-        tension[segments[:split]] = halves[0]
-        tension[segments[split:]] = halves[1]
+        pull = float(np.linalg.norm(disc.termination_force[3 * nodes[0] : 3 * nodes[0] + 3]))
+        tension[segments] = pull * per_tension[span_of_node[: len(segments)]]
     if disc.catenary is not None and disc.catenary.stitch_wire is not None:
         # A stitch wire is held at the tension given for it: form-finding finds the unstretched
         # length of each of its segments that carries that horizontal tension in the found shape.
@@ -197,7 +254,8 @@ def _horizontal_wire_tension(disc: Discretisation) -> np.ndarray:
 
 
 FORM_FINDING_PASSES = 3
-"""Form-finding passes at most (one on straight track, two on curves in practice). [-]"""
+"""Form-finding passes at most (one in practice; a second where the relaxation moves a target by more
+than the geometry tolerance). [-]"""
 
 
 def _form_found_parameters(disc, params, solution, wire_tension, axial_stiffness) -> PhysicalParameters:
@@ -256,4 +314,4 @@ def _check_form_found(state: EquilibriumState, target_dofs: np.ndarray, targets:
         )
 
 
-__all__ = ["dropper_height_sensitivity", "form_find"]
+__all__ = ["check_form_finding_inputs", "dropper_height_sensitivity", "form_find"]

@@ -1,6 +1,6 @@
 """The form-finding equations g(v; p) = 0 of a catenary section, and their sensitivity to the targets.
 
-The form-finding problem: the unknowns v (node heights and sideways positions, steady-arm settings,
+The form-finding problem: the unknowns v (node heights and sideways positions, steady-arm forces,
 dropper lengths, spring references) that balance every free node with each wire element acting as
 a string of constant horizontal tension, while the contact wire holds its target heights p. The
 equations are CasADi SX expressions built from the same energy terms as the potential
@@ -102,7 +102,7 @@ def form_finding_system(
     target_dofs : ndarray of int
         Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
-        Design coordinates (first-guess pivots). [m]
+        Design coordinates (the first-guess pivots give the arms' starting forces). [m]
     """
     base = x_design.reshape(-1, 3)
     fixed = disc.fixed_dofs.reshape(-1, 3)
@@ -134,26 +134,32 @@ def form_finding_system(
 
     v_z = ca.SX.sym("height", len(z_unknown))
     v_side = ca.SX.sym("sideways", len(side_nodes))
-    v_arm = ca.SX.sym("arm_setting", 2 * n_arm)
+    v_arm = ca.SX.sym("arm_force", 2 * n_arm)
     v_drop = ca.SX.sym("dropper_length", len(drops))
     v_ref = ca.SX.sym("spring_reference", len(disc.spring_dofs))
     p = ca.SX.sym("target_height", len(target_dofs))
 
-    # Coordinates as functions of the unknowns and the targets; a pivot sits at its clamp's design
-    # point plus a·normal + b·e_z.
+    # Coordinates as functions of the unknowns and the targets. A steady arm is a two-force member: its
+    # unknowns are the force it puts on its clamp, f = f_n·normal + f_z·e_z, which enters the clamp's
+    # balance linearly; its pivot follows, on the line of f at the arm's stretched length (see
+    # _pivot). Solving for the pivot itself would make a stiff bar rotate under Newton steps, whose
+    # second-order stretch swamps the clamp's balance where the arm carries little sideways pull.
     xs = ca.SX.sym("x", disc.n_dofs)
     x = ca.SX(x_design.astype(float))
     x[target_dofs.tolist()] = p
     x[(3 * z_unknown + 2).tolist()] = v_z
     for c in range(2):
         x[(3 * side_nodes + c).tolist()] = ca.DM(base[side_nodes, c]) + v_side * ca.DM(across_dir[:, c])
-    for j, (pivot, mast) in enumerate(zip(disc.arm_pivot_nodes, disc.arm_masts)):
-        normal = disc.mast_normal[mast]
-        for c in range(3):
-            x[3 * pivot + c] = base[reg_nodes[j], c] + v_arm[2 * j] * normal[c] + (v_arm[2 * j + 1] if c == 2 else 0)
+    arm_force = [v_arm[2 * j] * ca.DM(disc.mast_normal[mast]) + v_arm[2 * j + 1] * ca.DM([0.0, 0.0, 1.0])
+                 for j, mast in enumerate(disc.arm_masts)]
+    push_off = disc.catenary.mast_push_off()[disc.arm_masts] if n_arm else np.zeros(0, dtype=bool)
+    for j, (arm, pivot) in enumerate(zip(disc.arm_elements, disc.arm_pivot_nodes)):
+        clamp = x[3 * reg_nodes[j] : 3 * reg_nodes[j] + 3]
+        x[3 * pivot : 3 * pivot + 3] = _pivot(clamp, arm_force[j], params.unstretched_length[arm],
+                                              params.axial_stiffness[arm], push_off[j])
 
     is_wire = wire_tension > 0
-    others = np.flatnonzero(~is_wire)
+    others = np.setdiff1d(np.flatnonzero(~is_wire), disc.arm_elements)
     k = ca.DM(params.axial_stiffness[others])
     L0 = _with(params.unstretched_length, drops, v_drop)[others.tolist()]
     energy = _axial_energy(disc, xs, others, k, L0, ca.DM.zeros(len(others)))
@@ -169,7 +175,10 @@ def form_finding_system(
     energy += _bending_energy(disc, xs, ca.DM(params.bending_stiffness))
     energy += _spring_energy(disc, xs, ca.DM(params.spring_stiffness), v_ref)
     energy -= ca.dot(ca.DM(params.nodal_force), xs)
-    gradient = ca.Function("gradient", [xs, v_drop, v_ref], [ca.gradient(energy, xs)])(x, v_drop, v_ref)
+    X = ca.reshape(xs, 3, disc.n_nodes).T
+    for j, force in enumerate(arm_force):
+        energy -= ca.dot(force, X[int(reg_nodes[j]), :].T)
+    gradient = ca.Function("gradient", [xs, v_drop, v_ref, v_arm], [ca.gradient(energy, xs)])(x, v_drop, v_ref, v_arm)
 
     vertical = gradient[(3 * z_free + 2).tolist()]
     sideways_balance = sum(gradient[(3 * side_nodes + c).tolist()] * ca.DM(across_dir[:, c]) for c in range(2))
@@ -178,9 +187,12 @@ def form_finding_system(
         for node, mast in zip(reg_nodes, disc.arm_masts)
     ]
     arm_start = []
-    for j, mast in enumerate(disc.arm_masts):
+    for j, (arm, mast) in enumerate(zip(disc.arm_elements, disc.arm_masts)):
+        # the force of the arm at its first-guess pivot: N = k (|r| − L0) along r, the clamp-to-pivot vector
         rel = base[disc.arm_pivot_nodes[j]] - base[reg_nodes[j]]
-        arm_start += [float(rel @ disc.mast_normal[mast]), float(rel[2])]
+        length = float(np.linalg.norm(rel))
+        force = params.axial_stiffness[arm] * (length - params.unstretched_length[arm]) * rel / length
+        arm_start += [float(force @ disc.mast_normal[mast]), float(force[2])]
     return FormFindingSystem(
         unknowns=ca.vertcat(v_z, v_side, v_arm, v_drop, v_ref),
         targets=p,
@@ -195,6 +207,18 @@ def form_finding_system(
         n_arm=n_arm,
         n_drop=len(drops),
     )
+
+def _pivot(clamp, force, unstretched_length: float, stiffness: float, push_off: bool):
+    """Pivot of a steady arm that puts ``force`` on its clamp (CasADi expressions). [m]
+
+    A pull-off arm in tension N = |f| pulls the clamp towards its pivot; a push-off arm in compression
+    N = −|f| pushes it away from its pivot. Either way the pivot lies on the line of f at the stretched
+    length L0 + N/k from the clamp (k = EA/L0 the arm's spring stiffness).
+    """
+    size = ca.norm_2(force)
+    sign = -1.0 if push_off else 1.0
+    return clamp + sign * force / size * (unstretched_length + sign * size / stiffness)
+
 
 def target_height_sensitivity(
     disc: Discretisation,

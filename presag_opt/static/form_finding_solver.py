@@ -15,6 +15,7 @@ import numpy as np
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
 from presag_opt.static.form_finding_equations import form_finding_system
+from presag_opt.static.newton import round_off_force
 from presag_opt.static.potential import PhysicalParameters
 
 
@@ -31,26 +32,38 @@ class FormFindingSolution:
     spring_reference : ndarray
         Unloaded position of each ground spring. [m]
     iterations : int
-        IPOPT iterations. [-]
+        IPOPT iterations, over every solve. [-]
+    restarts : int
+        Solves begun again after one that failed. [-]
     """
 
     positions: np.ndarray
     dropper_unstretched_length: np.ndarray
     spring_reference: np.ndarray
     iterations: int
+    restarts: int = 0
 
 IPOPT_OPTIONS = (
     ("print_level", 0),
     ("sb", "yes"),
     ("tol", 1e-8),
-    ("constr_viol_tol", 1e-6),
     ("max_iter", 100),
     ("hessian_approximation", "limited-memory"),
     ("linear_solver", "mumps"),
 )
-"""IPOPT's options for the form-finding solve: silent; converged at a scaled residual of 1e-8 and
-an equation violation of 1e-6 N (the Newton relaxation that follows meets the force tolerance);
-at most 100 iterations; limited-memory Hessian (the system is square, the objective zero); MUMPS."""
+"""IPOPT's options for the form-finding solve: silent; converged at a scaled residual of 1e-8 (and an
+equation violation of :data:`EQUATION_TOLERANCE`, see :func:`solve_form_finding`); at most 100
+iterations; limited-memory Hessian (the system is square, the objective zero); MUMPS."""
+
+RESTART_OPTIONS = (("hessian_approximation", "exact"), ("max_iter", 100))
+"""What a solve that did not converge is begun again with, from the same start: the exact Hessian of
+the equations (CasADi's, a second method rather than more iterations of the first; building it costs
+about as much as the first solve). Counted as a restart (:attr:`FormFindingSolution.restarts`)."""
+
+EQUATION_TOLERANCE = 1e-6
+"""Largest violation of a form-finding equation accepted, unless the round-off of the nodal forces
+(:func:`~presag_opt.static.newton.round_off_force`) is larger: IPOPT then stops at the round-off
+instead of iterating on it (the Newton relaxation that follows meets the force tolerance). [N]"""
 
 
 def solve_form_finding(
@@ -66,11 +79,13 @@ def solve_form_finding(
     design puts them), so every wire element acts as a string of constant horizontal tension H:
     energy ``H l_h + H/(2 l_h₀) (Δz)²`` with ``l_h`` its horizontal length. Unknowns: the heights
     of the wire nodes, their sideways (in-plan, across the wire) positions, the dropper unstretched
-    lengths, the steady-arm pivot positions (across the track and vertically, in the mast plane) and
-    the ground-spring references. Equations: vertical and sideways equilibrium at every free node,
-    equilibrium across the track at every steady-arm clamp (whose lateral position is the stagger),
-    and the designed height at ``target_dofs``. The system is
-    square; IPOPT solves it as a feasibility problem (zero objective).
+    lengths, the force of every steady arm on its clamp (across the track and vertically, in the mast
+    plane; the pivot follows on its line) and the ground-spring references. Equations: vertical and
+    sideways equilibrium at every free node, equilibrium across the track at every steady-arm clamp
+    (whose lateral position is the stagger), and the designed height at ``target_dofs``. The system
+    is square; IPOPT solves it as a feasibility problem (zero objective), to an equation violation of
+    :data:`EQUATION_TOLERANCE` or the round-off of the nodal forces, whichever is larger. A solve that
+    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`.
 
     Parameters
     ----------
@@ -83,27 +98,31 @@ def solve_form_finding(
     target_dofs : ndarray of int
         Degrees of freedom (heights) that must keep their design value. [-]
     x_design : ndarray
-        Design coordinates (first-guess pivots). [m]
+        Design coordinates (the first-guess pivots give the arms' starting forces). [m]
 
     Raises
     ------
     ConvergenceError
-        If IPOPT does not report success.
+        If IPOPT does not report success after the restart either.
     """
     system = form_finding_system(disc, params, wire_tension, target_dofs, x_design)
-    solver = ca.nlpsol(
-        "form_finding",
-        "ipopt",
-        {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations},
-        {"print_time": False, "ipopt": dict(IPOPT_OPTIONS)},
-    )
+    problem = {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations}
+    tolerance = max(EQUATION_TOLERANCE, round_off_force(params, x_design))
     targets = x_design[target_dofs]
-    result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
-    stats = solver.stats()
-    if not stats.get("success", False):
+    iterations = restarts = 0
+    for options in (dict(IPOPT_OPTIONS), {**dict(IPOPT_OPTIONS), **dict(RESTART_OPTIONS)}):
+        solver = ca.nlpsol("form_finding", "ipopt", problem,
+                           {"print_time": False, "ipopt": {**options, "constr_viol_tol": tolerance}})
+        result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
+        stats = solver.stats()
+        iterations += int(stats.get("iter_count", 0))
+        if stats.get("success", False):
+            break
+        restarts += 1
+    else:
         raise ConvergenceError(
             f"form-finding did not converge: IPOPT status {stats.get('return_status')!r} "
-            f"after {stats.get('iter_count')} iterations",
+            f"after {iterations} iterations (a restart with the exact Hessian included)",
             stats,
         )
     sol = np.asarray(result["x"]).ravel()
@@ -113,5 +132,6 @@ def solve_form_finding(
         positions=positions.reshape(-1, 3),
         dropper_unstretched_length=sol[start : start + system.n_drop],
         spring_reference=sol[start + system.n_drop :],
-        iterations=int(stats.get("iter_count", -1)),
+        iterations=iterations,
+        restarts=restarts,
     )

@@ -42,8 +42,23 @@ def force_tolerance(params: PhysicalParameters, x: np.ndarray, settings: StaticS
     settings : StaticSettings
         Numerical settings (``force_tolerance``).
     """
-    floor = ROUND_OFF_FACTOR * np.finfo(float).eps * float(params.axial_stiffness.max()) * float(np.abs(x).max())
-    return max(settings.force_tolerance, floor)
+    return max(settings.force_tolerance, round_off_force(params, x))
+
+
+def round_off_force(params: PhysicalParameters, x: np.ndarray) -> float:
+    """The round-off of the nodal forces: no balance can be checked more finely than this. [N]
+
+    :data:`ROUND_OFF_FACTOR` · ε · k_max · x_max (ε machine epsilon, k_max the stiffest axial element,
+    x_max the largest coordinate in size).
+
+    Parameters
+    ----------
+    params : PhysicalParameters
+        Parameter values (their axial stiffness).
+    x : ndarray
+        Coordinates of every DOF. [m]
+    """
+    return ROUND_OFF_FACTOR * np.finfo(float).eps * float(params.axial_stiffness.max()) * float(np.abs(x).max())
 
 
 def newton_equilibrium(

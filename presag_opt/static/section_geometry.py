@@ -8,7 +8,8 @@ The pieces :func:`~presag_opt.static.discretisation.discretise` assembles its el
 - :func:`design_wire_positions`: the contact wire registered at each mast's signed stagger, straight
   chords in plan between the registrations, at the height of the straight line between its supports
   less the pre-sag; the messenger wire vertically above it at the masts (the system height there)
-  with a parabolic first-guess sag;
+  with the first-guess sag of a cable carrying both wires less what the pre-sagged contact wire's
+  tension carries itself;
 - :func:`steady_arm_pivots`: a first-guess pivot per steady arm from the force it carries, on the
   side away from the wire's pull for a pull-off arm (tension), on the side it pulls towards for a
   push-off arm (compression).
@@ -93,8 +94,11 @@ def section_stations(catenary: Catenary, element_length: float) -> SectionStatio
                            mast_station=mast_station)
 
 
-def track_plan(spans: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def track_plan(spans: np.ndarray, radii: np.ndarray, along_x_at: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """Mast positions in plan and track heading at each mast for straight or circular spans.
+
+    The first mast is at the origin; the plan is turned so that the track runs along +x at mast
+    ``along_x_at``.
 
     Parameters
     ----------
@@ -102,6 +106,8 @@ def track_plan(spans: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.nda
         Span lengths along the track. [m]
     radii : ndarray
         Curve radius per span, + curving to the left, 0 straight. [m]
+    along_x_at : int
+        Mast (from 0) at which the track runs along +x. [-]
 
     Returns
     -------
@@ -118,7 +124,9 @@ def track_plan(spans: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, np.nda
         direction = heading[i] + turn / 2.0
         xy[i + 1] = xy[i] + abs(chord) * np.array([math.cos(direction), math.sin(direction)])
         heading[i + 1] = heading[i] + turn
-    return xy, heading
+    turn = heading[along_x_at]
+    rotation = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    return xy @ rotation, heading - turn
 
 
 def mast_normals(heading: np.ndarray) -> np.ndarray:
@@ -139,7 +147,7 @@ def design_wire_positions(catenary: Catenary, stations: SectionStations, track_x
     Plan: along the chord between the registrations (each mast's signed stagger off the centre
     line). Contact wire: the straight line between its support heights less the pre-sag depth.
     Messenger wire: the straight line between the mast heights (contact-wire height plus system
-    height) less the parabolic sag of a cable carrying both wires (:func:`messenger_sag_guess`).
+    height) less its first-guess sag (:func:`messenger_sag_guess`).
 
     Parameters
     ----------
@@ -167,22 +175,86 @@ def design_wire_positions(catenary: Catenary, stations: SectionStations, track_x
         z_cw[here] = catenary.support_line(s, local) - catenary.presag_depth(s, local)
     mw_mast = catenary.mast_contact_wire_height() + catenary.mast_system_height()
     mw_line = mw_mast[span_idx] + (mw_mast[np.minimum(span_idx + 1, n_spans)] - mw_mast[span_idx]) * t
-    z_mw = mw_line - 4.0 * messenger_sag_guess(catenary, spans[span_idx]) * t * (1.0 - t)
+    z_mw = np.empty(len(t))
+    for s in range(n_spans):
+        here = span_idx == s
+        z_mw[here] = mw_line[here] - messenger_sag_guess(catenary, s, stations.local[here])
     return np.column_stack([xy, z_cw]), np.column_stack([xy, z_mw])
 
 
-def messenger_sag_guess(catenary: Catenary, span_lengths: np.ndarray) -> np.ndarray:
-    """Parabolic mid-span sag of the messenger wire carrying both wires' weight (first guess). [m]
+def messenger_sag_guess(catenary: Catenary, span: int, positions: np.ndarray) -> np.ndarray:
+    """First guess of the messenger wire's sag below the line between its supports in a span. [m]
+
+    Both wires, the droppers and their clamps hang together: per unit length, vertical balance of the
+    whole gives T_MW·D_MW'' + T_CW·D_CW'' = −w, with D the depth below each wire's support line (zero
+    at the masts), w the weight of both wires and of the droppers spread along the span (each at the
+    span's smaller system height), and D_CW the pre-sag. So D_MW(x) = (w·x(l − x)/2 − T_CW·D_CW(x))/T_MW:
+    the sag of a cable carrying everything, less what the pre-sagged contact wire's tension carries
+    itself. (The steady arms carry some of the contact wire next to the masts; leaving that out puts
+    the guess up to about 20 mm below the form-found messenger wire on long spans.)
 
     Parameters
     ----------
     catenary : Catenary
-        The catenary (wire masses, messenger-wire tension).
-    span_lengths : ndarray
-        Span lengths. [m]
+        The catenary (masses, tensions, droppers, pre-sag).
+    span : int
+        Span, from 0. [-]
+    positions : ndarray
+        Distances from the span's first mast. [m]
     """
-    weight = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length)
-    return weight * span_lengths**2 / (8.0 * catenary.messenger_wire.tension)
+    length = catenary.layout.span_lengths[span]
+    x = np.asarray(positions, dtype=float)
+    droppers = catenary.droppers
+    dropper_height = float(np.min(catenary.mast_system_height()[span : span + 2]))
+    dropper_mass = len(droppers.positions_in_span(length)) * (
+        droppers.mass_per_length * dropper_height + 2.0 * droppers.clamp_mass) / length
+    weight = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length + dropper_mass)
+    cw, mw = catenary.contact_wire.tension, catenary.messenger_wire.tension
+    return (weight * x * (length - x) / 2.0 - cw * catenary.presag_depth(span, x)) / mw
+
+
+DROPPER_GUESS_MARGIN = 0.03
+"""How far the first-guess length of a dropper (:func:`messenger_sag_guess`) may lie below the shortest
+dropper before the section is refused without a solve: more than the guess's largest underestimate over
+the form-finding study's 600 sections (20 mm, on 64 m spans, the arms carrying the contact wire next to
+the masts; ``benchmarks/bench_form_finding_fuzz.py``). [m]"""
+
+
+def check_dropper_room(catenary: Catenary, stations: SectionStations, lengths: np.ndarray,
+                       min_length: float) -> None:
+    """Refuse a section whose droppers cannot be cut: the messenger wire's first guess
+    (:func:`messenger_sag_guess`) comes closer to the contact wire than ``min_length`` less
+    :data:`DROPPER_GUESS_MARGIN`. A dropper within the margin is left to the form-finding, which refuses
+    it after the solve if it is short.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The catenary.
+    stations : SectionStations
+        Node stations along the section.
+    lengths : ndarray
+        First-guess length of the dropper at every dropper station, in order. [m]
+    min_length : float
+        Shortest buildable dropper. [m]
+
+    Raises
+    ------
+    ModelError
+        One line: the span, the dropper's place, its guessed length and what to change.
+    """
+    short = np.flatnonzero((lengths <= 0.0) | (lengths < min_length - DROPPER_GUESS_MARGIN))
+    if not len(short):
+        return
+    i = short[np.argmin(lengths[short])]
+    span = int(stations.span[stations.is_dropper][i])
+    where = float(stations.local[stations.is_dropper][i])
+    raise ModelError(
+        f"span {span + 1} ({catenary.layout.span_lengths[span]:g} m): the messenger wire sags to about "
+        f"{lengths[i] * 1e3:.0f} mm from the contact wire at the dropper {where:.2f} m from the mast, where the "
+        f"shortest dropper is {min_length * 1e3:.0f} mm (settings.min_dropper_length); raise the system height "
+        "or the messenger-wire tension, shorten the span or lessen the pre-sag"
+    )
 
 
 def steady_arm_pivots(
@@ -244,8 +316,10 @@ def steady_arm_pivots(
         size = np.linalg.norm(pull)
         if size < 1e-3 * tension:
             raise ModelError(
-                f"steady arm at mast {m}: the contact wire pulls only {size:.3g} N sideways there, so the arm "
-                "would have no vertical stiffness; give a stagger or a curve, or use a spring support"
+                f"steady arm at mast {m + 1} (of {len(mast_cw)}): the contact wire pulls only {size:.3g} N sideways "
+                "there (its stagger change and the curve's kink cancel), so the arm would have no vertical "
+                "stiffness; change the stagger there (on a curve, register the wire to the outside), or use a "
+                "spring support"
             )
         adjacent = [(i, spans[i], i + 1 if i == m else i) for i in (m - 1, m) if 0 <= i < len(spans)]
         first_drop = [catenary.droppers.positions_in_span(length)[0] for _, length, _ in adjacent]

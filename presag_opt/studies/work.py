@@ -25,7 +25,7 @@ from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint
-from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.errors import ConvergenceError, ModelError, failure_reason
 from presag_opt.processes import WorkerMemo
 from presag_opt.runtime import Runtime
 from presag_opt.speed import speed_ratio
@@ -287,17 +287,6 @@ def run_units(definition: StudyDefinition, units: list[WorkUnit], memo: WorkerMe
             trailing=_statistics(runs, 1) if two else None,
         ))
     return results
-
-
-def failure_reason(exc: BaseException) -> str:
-    """One line saying why a unit failed: the message of an expected error, else the error's type
-    and message (``MemoryError: out of memory`` for one without a message)."""
-    first = str(exc).splitlines()[0] if str(exc) else ""
-    if isinstance(exc, (ConvergenceError, ModelError)):
-        return first
-    if isinstance(exc, MemoryError):
-        return f"MemoryError: {first or 'out of memory'}"
-    return f"{type(exc).__name__}: {first}" if first else type(exc).__name__
 
 
 def _rules(definition: StudyDefinition, section: SectionElasticity | str, catenary: Catenary,

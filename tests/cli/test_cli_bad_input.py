@@ -55,9 +55,12 @@ def test_cache_command_clears(presag, tmp_path, monkeypatch):
     assert len(list((env_home / "presag_opt").glob("state-*.npz"))) == 1
     shown = presag("cache", cwd=tmp_path).stdout
     assert shown.startswith(f"cache {env_home / 'presag_opt'}: 1 state(s), ") and shown.endswith("; on\n")
+    kept = env_home / "presag_opt" / "evaluations" / "sensitivity-robust-x-0123"  # an analysis' evaluations
+    kept.mkdir(parents=True)
+    (kept / "store.json").write_text('{"key": "0123"}')
     cleared = presag("cache", "--clear", cwd=tmp_path)
-    assert cleared.returncode == 0 and "removed 1 cached state" in cleared.stdout
-    assert not list((env_home / "presag_opt").glob("state-*.npz"))
+    assert cleared.returncode == 0 and "removed 1 cached state(s) and the evaluations of 1 analyses" in cleared.stdout
+    assert not list((env_home / "presag_opt").glob("state-*.npz")) and not kept.exists()
 
 
 # ----- 3. inputs inside the advertised ranges -----------------------------------------------------

@@ -24,6 +24,9 @@ def test_form_find_json(presag, tmp_path):
     assert lengths == lengths[::-1]  # symmetric ideal span
     assert all(r["force_N"] > 0 for r in rows)
     assert len(data["steady_arms"]) == 11
+    stats = data["form_finding"]  # the solver's statistics, as data (those of the original solve if cached)
+    assert stats["passes"] == 1 and 1 <= stats["ipopt_iterations"] <= 10 and stats["restarts"] == 0
+    assert stats["seconds"] > 0.0 and isinstance(stats["cached"], bool)
 
 
 def test_elasticity_json_has_the_documented_keys(presag, tmp_path):

@@ -12,6 +12,7 @@ import pytest
 from presag_opt.design import CASE_STUDY_BAND, OperatingBand
 from presag_opt.design.layouts import curve_effects
 from presag_opt.design.line import LineOptions, design_line
+from presag_opt.errors import ModelError
 from presag_opt.report.line_report import dropper_rows
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
@@ -101,11 +102,11 @@ def test_a_curved_section_gives_the_curved_track_study():
     curved = base.with_layout(SpanLayout(span_lengths=spans, curve_radii=(300.0,) * len(spans)))
     band = OperatingBand(static_force_low=70.0, static_force_high=140.0, speed_high=80 / 3.6,
                          aero_coefficient=0.00097 * 3.6**2)
-    settings = StaticSettings(element_length=1.0, geometry_tolerance=0.5e-3)
+    settings = StaticSettings(element_length=1.0)
     (effect,) = curve_effects(base.with_layout(SpanLayout(span_lengths=spans)), (300.0,), band=band, step=1.0,
                               settings=settings)
     design = design_line(survey_of_catenary(curved), base, band,
-                         LineOptions(element_length=1.0, step=1.0, geometry_tolerance=0.5e-3, workers=1))
+                         LineOptions(element_length=1.0, step=1.0, workers=1))
     rec = design.sections[0].sizing.recommendation
     assert rec.presag_rel_range == pytest.approx(effect.presag_rel_range, rel=1e-9)
     assert design.presag_rel == pytest.approx(effect.presag_rel, rel=1e-9)
@@ -126,7 +127,7 @@ def test_a_push_off_arm_softens_its_support_like_an_inverted_pendulum():
     from presag_opt.system.survey import SurveyMast, section_catenary
 
     base = load_catenary("st_7.1_mixed")
-    settings = StaticSettings(element_length=0.5, geometry_tolerance=5e-4)
+    settings = StaticSettings(element_length=0.5)
     out = {}
     for arm_type in ("pull-off", "push-off"):
         masts = tuple(SurveyMast(mast=f"M{i}", chainage=40.0 * i, stagger=-0.2, contact_wire_height=5.5,
@@ -141,3 +142,28 @@ def test_a_push_off_arm_softens_its_support_like_an_inverted_pendulum():
     expected = (c_push * np.cos(a_push) ** 2 - c_pull * np.cos(a_pull) ** 2) / length
     assert 1 / e_push - 1 / e_pull == pytest.approx(expected, rel=0.15)
     assert e_push > 1.3 * e_pull
+
+
+def test_a_section_that_cannot_be_designed_is_set_apart_and_the_line_goes_on():
+    """Section B's 0.4 m system height leaves no room for its droppers: it is refused (before any solve)
+    and recorded with its masts; section A is designed exactly as it is alone."""
+    base = load_catenary("st_9.8_mixed")
+    options = LineOptions(element_length=1.0, step=1.0, workers=1)
+
+    def section(name: str, first: int, system_height: float):
+        return tuple(dataclasses.replace(m, mast=f"{name}{i}", section=name, chainage=m.chainage + 50.0 * first,
+                                         system_height=system_height)
+                     for i, m in enumerate(straight_survey([5.5] * 4).masts))
+
+    survey = Survey(masts=section("A", 0, 1.2) + section("B", 4, 0.4))
+    design = design_line(survey, base, CASE_STUDY_BAND, options)
+    assert [s.section for s in design.sections] == ["A"]
+    (failure,) = design.failures
+    assert failure.inputs == {"section": "B", "from_mast": "B0", "to_mast": "B3", "chainage_m": [200.0, 350.0]}
+    assert failure.failure.startswith("sizing: ") and "the messenger wire sags to about" in failure.failure
+    assert design.failure_summary().startswith("1 of 2 sections could not be designed (first: section B, sizing: ")
+    alone = design_line(Survey(masts=section("A", 0, 1.2)), base, CASE_STUDY_BAND, options)
+    assert design.presag_rel == alone.presag_rel
+    assert [d.length for d in design.droppers] == [d.length for d in alone.droppers]
+    with pytest.raises(ModelError, match="the messenger wire sags to about"):
+        design_line(Survey(masts=section("B", 4, 0.4)), base, CASE_STUDY_BAND, options)

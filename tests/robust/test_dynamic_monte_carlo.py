@@ -8,12 +8,22 @@ import importlib
 import numpy as np
 import pytest
 
-from presag_opt.errors import ModelError
+from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.dynamic_monte_carlo import MEASURES, dynamic_monte_carlo
 from presag_opt.robust.installation import InstallationErrors
 from tests.robust.test_dynamic_search import CATENARY, GRID, PANTOGRAPH, SETTINGS, SPAN
 
 PRESAG_REL = 0.012 / SPAN
+
+
+@pytest.fixture(autouse=True)
+def _no_cache_folder():
+    """No cache folder: with one (the command line's), a Monte Carlo keeps its realisations there, and a test
+    would read back those of an earlier one instead of computing the comparison it makes."""
+    from presag_opt import runtime
+
+    with runtime.current().replace(state_cache=None):
+        yield
 
 
 def _run(errors, **kwargs):
@@ -67,10 +77,36 @@ def test_a_line_with_a_slack_dropper_at_rest_runs_on_the_shared_structure():
     # structure cannot be linearised about taut droppers, the design's can (the dropper starts slack)
     errors = InstallationErrors(dropper_length=20e-3, contact_wire_height=10e-3)
     result = _run(errors, samples=4, seed=3)
-    assert np.all(np.isfinite(result.values("worst_sigma_over_fm")))
-    assert result.values("slack_at_rest").max() > 0 and result.nominal.slack_at_rest == 0
-    with pytest.raises(ModelError, match="slack at the equilibrium"):
-        _run(errors, samples=4, seed=3, shared_structure=False)
+    assert np.all(np.isfinite(result.values("worst_sigma_over_fm"))) and not result.failures
+    slack = result.values("slack_at_rest") > 0
+    assert slack.any() and result.nominal.slack_at_rest == 0
+    # on their own structures those realisations fail, each kept with its reason; the others go on
+    own = _run(errors, samples=4, seed=3, shared_structure=False)
+    assert [e.index for e in own.failures] == list(np.flatnonzero(slack))
+    assert all("slack at the equilibrium" in e.failure for e in own.failures)
+    assert own.samples == 4 - slack.sum() and own.percentiles["largest_uplift"][95].samples == own.samples
+
+
+def test_a_failed_realisation_is_kept_apart_and_the_percentiles_say_how_many_remain(one_worker, monkeypatch):
+    module = importlib.import_module("presag_opt.robust.dynamic_monte_carlo")
+    solve = module.installed_state
+    calls = []
+
+    def fails_once(nominal, sample, i):
+        calls.append(i)
+        if len(calls) == 3:  # realisation 1 (one realisation a task, after the error-free run and realisation 0)
+            raise ConvergenceError("equilibrium did not converge: largest out-of-balance force 3 N\nmore")
+        return solve(nominal, sample, i)
+
+    monkeypatch.setattr(module, "installed_state", fails_once)
+    result = _run(InstallationErrors(dropper_length=5e-3, contact_wire_height=3e-3), samples=3, seed=7, chunk=1)
+    (failure,) = result.failures
+    assert (failure.index, failure.failure) == (1, "equilibrium did not converge: largest out-of-balance force 3 N")
+    assert failure.inputs == {"realisation": 1, "seed": 7}
+    for measure in MEASURES:
+        assert np.array_equal(result.values(measure), one_worker.values(measure)[[0, 2]])
+        assert result.percentiles[measure][50].samples == 2
+    assert result.failure_summary().startswith("1 of 3 realisations failed (first: realisation 1, equilibrium did not")
 
 
 def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monkeypatch):
@@ -88,14 +124,14 @@ def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monke
     monkeypatch.setattr(module, "_realisation_runs", killed_after_one_task)
     with pytest.raises(KeyboardInterrupt):
         _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
-    assert (tmp_path / "nominal.json").exists() and not list(tmp_path.glob("realisation_*.json"))
+    assert (tmp_path / "reference.json").exists() and not list(tmp_path.glob("evaluation_*.json"))
 
     done = []
     monkeypatch.setattr(module, "_realisation_runs",
                         lambda *args, **kwargs: done.append(args[6].samples) or simulate(*args, **kwargs))
     resumed = _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
     assert done == [2, 1]  # the error-free run was read back, the realisations simulated
-    assert sorted(p.name for p in tmp_path.glob("realisation_*.json")) == [f"realisation_{i:05d}.json" for i in range(3)]
+    assert sorted(p.name for p in tmp_path.glob("evaluation_*.json")) == [f"evaluation_{i:05d}.json" for i in range(3)]
     done.clear()
     again = _run(errors, samples=3, seed=7, chunk=2, store=tmp_path)
     assert done == []  # everything read back
@@ -104,5 +140,5 @@ def test_a_killed_monte_carlo_resumes_from_its_store(tmp_path, one_worker, monke
         assert np.array_equal(again.values(measure), one_worker.values(measure))
     assert again.nominal == resumed.nominal
 
-    with pytest.raises(ModelError, match="holds the realisations of another Monte Carlo"):
+    with pytest.raises(ModelError, match="holds the evaluations of another analysis"):
         _run(errors, samples=3, seed=8, store=tmp_path)

@@ -110,4 +110,4 @@ def test_an_analysis_runs_every_sample_and_ranks_by_the_design(monkeypatch, tmp_
     assert top[0].name == "pantograph.frame.friction" and top[0].mu_star == pytest.approx(0.3, rel=1e-9)  # 0.02 ‰/N × 15 N
     assert top[1].mu_star == 0.0
     assert "timing the first one" in lines[0] and "evaluations ×" in lines[1]
-    assert len(list(tmp_path.rglob("row_*.json"))) == 9  # the resumable store
+    assert len(list(tmp_path.rglob("evaluation_*.json"))) == 9  # the resumable store

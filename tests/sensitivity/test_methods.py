@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from presag_opt.errors import ModelError
+from presag_opt.errors import ConvergenceError, ModelError
+from presag_opt.sensitivity.evaluation import evaluate_rows
 from presag_opt.sensitivity.inputs import SensitivityInput
 from presag_opt.sensitivity.methods import (
     MORRIS_LEVELS,
-    evaluate_rows,
     morris_design,
     morris_indices,
     sobol_design,
@@ -34,7 +34,7 @@ def run(method, n, seed, workers=1):
     design = morris_design if method == "morris" else sobol_design
     analyse = morris_indices if method == "morris" else sobol_indices
     rows = design(ISHIGAMI, n, seed)
-    values = evaluate_rows(ishigami, rows, workers=workers)[:, 0]
+    values = evaluate_rows(ishigami, rows, workers=workers).values[:, 0]
     return analyse(ISHIGAMI, rows, values, output="f", unit="-", seed=seed)
 
 
@@ -128,28 +128,32 @@ def test_spread_design_fills_the_box_reproducibly():
         spread_design(box, 10, seed=2)
 
 
-def test_a_store_keeps_every_evaluation_and_a_rerun_reads_it_back(tmp_path):
-    rows = morris_design(ISHIGAMI, 4, seed=2)
-    first = evaluate_rows(ishigami, rows, store=tmp_path / "s")
-    assert len(list((tmp_path / "s").glob("row_*.json"))) == len(rows)
-    # a function that would fail proves nothing is recomputed
-    again = evaluate_rows(lambda row: 1 / 0, rows, store=tmp_path / "s")
-    assert np.array_equal(again, first)
-    with pytest.raises(ModelError, match="holds another design's evaluation"):
-        evaluate_rows(ishigami, rows + 0.1, store=tmp_path / "s")
+def test_morris_drops_a_trajectory_with_a_failed_point_and_counts_it():
+    k = len(ISHIGAMI)
+    rows = morris_design(ISHIGAMI, 12, seed=4)
+    values = np.array([ishigami(r)[0] for r in rows])
+    broken = values.copy()
+    broken[3 * (k + 1) + 2] = np.nan  # a point inside trajectory 3
+    table = morris_indices(ISHIGAMI, rows, broken, output="f", unit="-", seed=4)
+    assert (table.samples, table.dropped) == (11, 1)
+    # the indices are those of the design without that trajectory, to the last bit
+    keep = np.ones(len(rows), dtype=bool)
+    keep[3 * (k + 1) : 4 * (k + 1)] = False
+    alone = morris_indices(ISHIGAMI, rows[keep], values[keep], output="f", unit="-", seed=4)
+    assert table.morris == alone.morris
+    with pytest.raises(ConvergenceError, match="11 of 12 trajectories hold a failed evaluation; fewer than 2"):
+        morris_indices(ISHIGAMI, rows, np.where(np.arange(len(rows)) < 11 * (k + 1), np.nan, values), output="f",
+                       unit="-", seed=4)
 
 
-def test_chunks_and_a_dask_cluster_give_the_rows_in_order():
-    """Rows run in chunks (one task each) and on a Dask cluster come back as evaluated one by one."""
-    distributed = pytest.importorskip("distributed")
-    rows = morris_design(ISHIGAMI, 3, seed=1)
-    one = evaluate_rows(ishigami, rows)
-    done = []
-    chunked = evaluate_rows(ishigami, rows, chunk=5, workers=2, progress=done.append)
-    assert np.array_equal(chunked, one)
-    assert done[-1] == f"evaluations: {len(rows)}/{len(rows)}" and len(done) == -(-len(rows) // 5)  # one per chunk
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
-        on_dask = evaluate_rows(ishigami, rows, scheduler=cluster.scheduler_address, chunk=4)
-    assert np.array_equal(on_dask, one)
-    with pytest.raises(ModelError, match=r"chunk = 0 is outside the valid range \[1, 15\] rows"):
-        evaluate_rows(ishigami, rows, chunk=0)
+def test_sobol_drops_a_base_sample_with_a_failed_point_and_reports_the_effective_sample_size():
+    k = len(ISHIGAMI)
+    rows = sobol_design(ISHIGAMI, 256, seed=5)
+    values = np.array([ishigami(r)[0] for r in rows])
+    broken = values.copy()
+    broken[[7, 5 * (k + 2), 5 * (k + 2) + 1, 200 * (k + 2) + k + 1]] = np.nan  # base samples 1, 5 and 200
+    table = sobol_indices(ISHIGAMI, rows, broken, output="f", unit="-", seed=5)
+    assert (table.samples, table.dropped) == (253, 3)
+    keep = np.repeat(~np.isin(np.arange(256), [1, 5, 200]), k + 2)
+    alone = sobol_indices(ISHIGAMI, rows[keep], values[keep], output="f", unit="-", seed=5)
+    assert table.sobol == alone.sobol and table.mean == alone.mean

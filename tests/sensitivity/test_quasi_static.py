@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from presag_opt.design.band import CASE_STUDY_BAND
-from presag_opt.sensitivity.methods import evaluate_rows
+from presag_opt.sensitivity.evaluation import evaluate_rows
 from presag_opt.sensitivity.quasi_static import REUSE, RecommendationEvaluator, RobustEvaluator, _band_with
 from presag_opt.system.loader import load_catenary
 
@@ -37,7 +37,7 @@ def test_reused_form_findings_give_the_very_same_values(tiny):
     evaluator = RecommendationEvaluator(ideal=tiny, mixed=tiny, names=NAMES)
     rows = trajectory(tiny)
     REUSE.clear()
-    shared = evaluate_rows(evaluator, rows, chunk=3)  # one task: the rows in order, in this process
+    shared = evaluate_rows(evaluator, rows, chunk=3).values  # one task: the rows in order, in this process
     # ideal and mixed are the same model here: each row computes its layout once and reuses it for the
     # other; the α_ae step (row 2) changes no catenary, so its form-finding is row 1's (one hit)
     assert (REUSE.misses, REUSE.hits) == (2, 1)

@@ -3,6 +3,7 @@ corrupt file ignored and rewritten, the most recently used entries kept."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -51,6 +52,8 @@ def test_cache_returns_the_same_state_and_a_changed_model_is_recomputed(tmp_path
         again = form_finding.form_find(load_catenary(model))
     np.testing.assert_array_equal(again.positions, first.positions)
     np.testing.assert_array_equal(again.params.unstretched_length, first.params.unstretched_length)
+    # the statistics of the solve that made it come back with it, marked as read from the cache
+    assert not first.form_finding.cached and again.form_finding == dataclasses.replace(first.form_finding, cached=True)
 
     changed = form_finding.form_find(load_catenary(_small_model(tmp_path, height=5.5)))  # the file edited
     assert len(list(cache_folder.glob("state-*.npz"))) == 2
@@ -78,3 +81,27 @@ def test_cache_keeps_the_most_recently_used_entries(cache_folder):
         cache.store(f"key{i}", {"positions": np.full(3, float(i))})
     assert len(list(cache_folder.glob("state-*.npz"))) == cache.MAX_ENTRIES
     assert cache.load("key0") is None and cache.load(f"key{cache.MAX_ENTRIES + 2}") is not None
+
+
+def test_long_analyses_keep_their_evaluations_in_the_cache_folder_most_recent_first(cache_folder):
+    import os
+
+    from presag_opt import runtime
+    from presag_opt.static import cache
+
+    folders = []
+    for i in range(cache.MAX_EVALUATION_STORES + 2):
+        folder = cache.evaluation_folder("sensitivity-robust", f"{i:04d}")
+        folder.mkdir(parents=True)
+        os.utime(folder, (1e9 + i, 1e9 + i))  # opened in this order
+        folders.append(folder)
+    assert folders[0] == cache_folder / "evaluations" / "sensitivity-robust-0000"
+    # opening one more keeps it and the most recently used others, MAX_EVALUATION_STORES in all
+    newest = cache.evaluation_folder("monte-carlo", "abcd")
+    kept = sorted(p.name for p in (cache_folder / "evaluations").iterdir())
+    assert kept == sorted(f.name for f in folders[-(cache.MAX_EVALUATION_STORES - 1):])
+    assert not newest.exists()  # created by the store that opens it
+    assert cache.clear_evaluations(cache_folder) == cache.MAX_EVALUATION_STORES - 1
+    assert not list((cache_folder / "evaluations").iterdir())
+    with runtime.current().replace(state_cache=None):
+        assert cache.evaluation_folder("monte-carlo", "abcd") is None  # no cache: nothing is kept

@@ -46,8 +46,23 @@ def test_the_solution_holds_the_targets_and_balances_the_equations(problem):
     assert np.all(solution.dropper_unstretched_length < clamps)
 
 
-def test_an_unfinished_solve_raises_with_the_ipopt_status(problem, monkeypatch):
+def test_an_unfinished_solve_is_begun_again_with_the_exact_hessian_and_counted(problem, monkeypatch):
+    disc, params, tension, targets, x_design = problem
+    reference = form_finding_solver.solve_form_finding(*problem)
+    assert reference.restarts == 0
     options = tuple((k, 1 if k == "max_iter" else v) for k, v in form_finding_solver.IPOPT_OPTIONS)
-    monkeypatch.setattr(form_finding_solver, "IPOPT_OPTIONS", options)
-    with pytest.raises(ConvergenceError, match="form-finding did not converge: IPOPT status 'Maximum_Iterations"):
+    monkeypatch.setattr(form_finding_solver, "IPOPT_OPTIONS", options)  # the first solve stops after one iteration
+    solution = form_finding_solver.solve_form_finding(*problem)
+    assert solution.restarts == 1 and solution.iterations > 1
+    # the same solution, to IPOPT's tolerance on these equations (1e-6 N on droppers of about 1e6 N/m)
+    np.testing.assert_allclose(solution.dropper_unstretched_length, reference.dropper_unstretched_length, rtol=0,
+                               atol=1e-9)
+
+
+def test_a_solve_that_does_not_finish_after_its_restart_raises_with_the_ipopt_status(problem, monkeypatch):
+    for name in ("IPOPT_OPTIONS", "RESTART_OPTIONS"):
+        options = tuple((k, 1 if k == "max_iter" else v) for k, v in getattr(form_finding_solver, name))
+        monkeypatch.setattr(form_finding_solver, name, options)
+    with pytest.raises(ConvergenceError, match=r"form-finding did not converge: IPOPT status 'Maximum_Iterations_"
+                                               r"Exceeded' after 2 iterations \(a restart with the exact Hessian"):
         form_finding_solver.solve_form_finding(*problem)

@@ -63,10 +63,16 @@ def test_the_mast_normal_is_a_horizontal_unit_vector_to_the_left_of_the_track():
     np.testing.assert_allclose(n[2, 0] * math.cos(0.3) + n[2, 1] * math.sin(0.3), 0.0, atol=1e-15)  # ⟂ heading
 
 
-def test_the_messenger_sag_guess_is_the_parabola_of_both_wires_weight():
-    w = GRAVITY * (IDEAL.contact_wire.mass_per_length + IDEAL.messenger_wire.mass_per_length)
-    assert messenger_sag_guess(IDEAL, np.array([60.0]))[0] == pytest.approx(w * 3600.0 / (8 * IDEAL.messenger_wire.tension),
-                                                                           rel=1e-12)
+def test_the_messenger_sag_guess_is_the_sag_of_everything_less_what_the_presagged_wire_carries():
+    catenary = IDEAL.with_presag(1e-3)
+    drops = catenary.droppers
+    n = len(drops.positions_in_span(60.0))  # 7
+    w = GRAVITY * (catenary.contact_wire.mass_per_length + catenary.messenger_wire.mass_per_length
+                   + n * (drops.mass_per_length * catenary.system_height + 2 * drops.clamp_mass) / 60.0)
+    # at mid-span: (w l²/8 − T_CW·S)/T_MW, S = 60 mm; at the masts: none
+    expected = (w * 3600.0 / 8.0 - catenary.contact_wire.tension * 0.060) / catenary.messenger_wire.tension
+    assert messenger_sag_guess(catenary, 4, np.array([30.0]))[0] == pytest.approx(expected, rel=1e-12)
+    np.testing.assert_allclose(messenger_sag_guess(catenary, 4, np.array([0.0, 60.0])), 0.0, rtol=0, atol=1e-15)
 
 
 def test_the_design_contact_wire_hangs_the_presag_below_its_supports_and_the_messenger_sits_at_the_system_height():
@@ -87,7 +93,7 @@ def test_a_steady_arm_without_a_sideways_pull_is_refused():
     axial force and so have no vertical stiffness. (The catenary refuses zero stagger itself; a mast
     table can still lead here.)"""
     wire = np.array([[0.0, 0.0, 5.3], [60.0, 0.0, 5.3], [120.0, 0.0, 5.3]])
-    with pytest.raises(ModelError, match=r"^steady arm at mast 1: the contact wire pulls only 0 N sideways there"):
+    with pytest.raises(ModelError, match=r"^steady arm at mast 2 \(of 3\): the contact wire pulls only 0 N sideways there"):
         steady_arm_pivots(IDEAL, wire, np.arange(3), np.arange(3), np.zeros(9), [1])
     assert steady_arm_pivots(IDEAL, wire, np.arange(3), np.arange(3), np.zeros(9), []).shape == (0, 3)
     with pytest.raises(ModelError, match=r"^stagger = 0 m on straight track leaves a steady arm without lateral pull"):
