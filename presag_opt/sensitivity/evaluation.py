@@ -243,7 +243,17 @@ def run_on_dask(tasks, address: str, job, run, finish) -> None:
 
 def evaluate_on_cluster(function: Callable[[np.ndarray], np.ndarray], settings: runtime.Runtime,
                         rows: np.ndarray) -> list[_Outcome]:
-    """A Dask task: :func:`evaluate_block` in the runtime of the process that submitted it."""
+    """A Dask task: :func:`evaluate_block` in the runtime of the process that submitted it.
+
+    Parameters
+    ----------
+    function : callable
+        Maps one row to a 1-D array of outputs.
+    settings : Runtime
+        The runtime of the submitting process.
+    rows : ndarray, shape (n, k)
+        Input values. [SI units of the inputs]
+    """
     with settings:
         return evaluate_block(function, rows)
 
