@@ -98,6 +98,7 @@ def test_bad_survey_values_end_with_one_line(presag, tmp_path, row, expected):
     assert not (tmp_path / "out" / "droppers.csv").exists()  # nothing is computed from a table with an error
 
 
+@pytest.mark.slow  # the decision's use of the check: tests/pipeline/test_line.py; the check: tests/robust/test_dynamic_check.py
 def test_dynamic_check_simulates_the_worst_section_and_decides_again(presag, tmp_path):
     rows = [f"A{i + 1},{50 * i},{300 if i % 2 == 0 else -300},5.5,1.2,,pull-off,A" for i in range(7)]
     result = presag("design", str(survey_file(tmp_path, rows)), "--system", "st_9.8_mixed", "--out", "out",

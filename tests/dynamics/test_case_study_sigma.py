@@ -69,7 +69,7 @@ def test_case_file_keeps_the_paper_settings(case):
     assert (integrator.scheme, integrator.hht_alpha, integrator.time_step) == ("hht", -0.005, 2e-3)
 
 
-@pytest.mark.parametrize("kmh", [90, 160])
+@pytest.mark.parametrize("kmh", [90, pytest.param(160, marks=pytest.mark.slow)])
 def test_case_study_sigma(case, state, kmh):
     assert _sigma(case, state, kmh) == pytest.approx(SIGMA_REGRESSION[kmh], rel=SIGMA_TOL)
 

@@ -143,7 +143,7 @@ def test_a_file_where_the_stores_folder_should_be_is_one_line(presag, tmp_path):
     assert "plain is a file, not a folder" in _one_error_line(run)
 
 
-@pytest.mark.parametrize("code", [errno.EACCES, errno.ENOSPC])
+@pytest.mark.parametrize("code", [errno.EACCES, pytest.param(errno.ENOSPC, marks=pytest.mark.slow)])
 def test_a_write_failing_in_the_middle_leaves_complete_files_and_resumes(tmp_path, monkeypatch, reference, code):
     """The third atomic write (manifest, unit, *unit*) fails as a lost permission or a full disk does."""
     out = tmp_path / "study.nc"
