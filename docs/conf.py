@@ -23,7 +23,6 @@ import os
 import shutil
 import sys
 from datetime import date
-from importlib import metadata
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
@@ -36,10 +35,9 @@ import presag_api  # found through the path above
 project = "presag_opt"
 author = "presag_opt contributors"
 copyright = f"{date.today().year}, {author}"
-try:
-    release = metadata.version("presag-opt")
-except metadata.PackageNotFoundError:  # not installed: building from a checkout
-    release = "unknown"
+from presag_opt.version import VERSION as release  # noqa: E402 - the path above finds the checkout's package
+
+version = release
 
 extensions = [
     "sphinx.ext.autodoc",
@@ -91,7 +89,8 @@ def _redirect_outside_links(app, docname: str, source: list[str]) -> None:
 
 # ---- myst and myst-nb ----------------------------------------------------------------------------
 
-myst_enable_extensions = ["dollarmath", "deflist", "colon_fence"]
+myst_enable_extensions = ["dollarmath", "deflist", "colon_fence", "substitution"]
+myst_substitutions = {"version": release}  # the package version in the pages: {{ version }}
 myst_heading_anchors = 3
 EXECUTE = os.environ.get("PRESAG_DOCS_EXECUTE", "") == "1"
 os.environ.setdefault("PRESAG_NOTEBOOK_MODE", "fast")  # the kernels inherit it

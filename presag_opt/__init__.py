@@ -12,6 +12,10 @@ from __future__ import annotations
 
 from importlib import import_module
 
+from presag_opt.version import VERSION
+
+__version__ = VERSION
+
 _API = {
     "presag_opt.errors": (
         "ConvergenceError", "ModelError",

@@ -21,11 +21,11 @@ import hashlib
 import json
 import math
 from dataclasses import dataclass, field
-from importlib import metadata
 from pathlib import Path
 
 from presag_opt.atomic_files import storage_errors, write_atomic
 from presag_opt.errors import ModelError
+from presag_opt.version import VERSION
 
 MANIFEST = "store.json"
 """File name of a store's manifest (its key and what it holds)."""
@@ -45,11 +45,7 @@ def analysis_key(*inputs: object) -> str:
     str
         20 hex digits. [-]
     """
-    try:
-        version = metadata.version("presag-opt")
-    except metadata.PackageNotFoundError:
-        version = "unknown"
-    return hashlib.sha256(repr((version, *inputs)).encode()).hexdigest()[:20]
+    return hashlib.sha256(repr((VERSION, *inputs)).encode()).hexdigest()[:20]
 
 
 @dataclass(frozen=True, kw_only=True)

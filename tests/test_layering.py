@@ -19,6 +19,7 @@ LAYERS = {
     "contact_force": 0,
     "runtime": 0,
     "units": 0,
+    "version": 0,
     "native": 1,
     "speed": 1,
     "processes": 1,

@@ -34,12 +34,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _version() -> str:
-    from importlib import metadata
+    from presag_opt.version import VERSION
 
-    try:
-        return metadata.version("presag-opt")
-    except metadata.PackageNotFoundError:
-        return "unknown (not installed)"
+    return VERSION
 
 
 COMMAND_MODULES = [static, recommend, robust, dynamics, studies, validation, report, line, sensitivity]

@@ -33,13 +33,13 @@ import shutil
 import tempfile
 import zipfile
 from dataclasses import fields
-from importlib import metadata
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from presag_opt import runtime
+from presag_opt.version import VERSION
 
 if TYPE_CHECKING:
     from presag_opt.static.equilibrium import EquilibriumState, StaticModel
@@ -123,12 +123,8 @@ def state_key(catenary: object, settings: object) -> str:
     """The key of a form-found state: a hex digest over everything the result depends on."""
     import casadi
 
-    try:
-        version = metadata.version("presag-opt")
-    except metadata.PackageNotFoundError:
-        version = "unknown"
     digest = hashlib.sha256()
-    for text in (repr(catenary), repr(settings), version, casadi.__version__, _code_fingerprint()):
+    for text in (repr(catenary), repr(settings), VERSION, casadi.__version__, _code_fingerprint()):
         digest.update(text.encode())
         digest.update(b"\0")
     return digest.hexdigest()

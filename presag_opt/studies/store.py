@@ -31,7 +31,6 @@ import socket
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
-from importlib import metadata
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +42,7 @@ from presag_opt.contact_force import mean_contact_force
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.work import UnitResult, WorkUnit
+from presag_opt.version import VERSION
 
 ENGINE = "h5netcdf"
 MANIFEST = "study.json"
@@ -75,11 +75,8 @@ def units_directory(store: Path) -> Path:
 
 
 def package_version() -> str:
-    """Installed version of presag-opt (``unknown`` when run from an uninstalled checkout)."""
-    try:
-        return metadata.version("presag-opt")
-    except metadata.PackageNotFoundError:
-        return "unknown"
+    """The version of presag_opt (:data:`presag_opt.version.VERSION`)."""
+    return VERSION
 
 
 def check_store(store: Path, definition: StudyDefinition) -> None:
