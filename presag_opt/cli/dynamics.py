@@ -20,7 +20,6 @@ from presag_opt.cli.common import (
     progress,
     table,
 )
-from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.errors import ModelError
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import builtin_model_names, load_catenary
@@ -31,12 +30,10 @@ if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulat
     from presag_opt.dynamics.settings import SimulationSettings
     from presag_opt.dynamics.simulate import SimulationResult
 
-SCHEMES = {
-    "hht": IntegratorSettings(scheme="hht", hht_alpha=-0.005),
-    "newmark": IntegratorSettings(scheme="newmark"),
-}
-"""Integration schemes offered on the command line (HHT with the paper's numerical damping 0.005, or
-average-acceleration Newmark)."""
+SCHEMES = {"hht": {"scheme": "hht", "hht_alpha": -0.005}, "newmark": {"scheme": "newmark"}}
+"""Integration schemes offered on the command line, as :class:`~presag_opt.dynamics.integrator.IntegratorSettings`
+fields (HHT with the paper's numerical damping 0.005, or average-acceleration Newmark; the integrator
+module is imported only when ``simulate`` runs)."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -135,8 +132,10 @@ def simulate_command(args: argparse.Namespace) -> int:
 
 def _settings(args: argparse.Namespace, base: SimulationSettings) -> SimulationSettings:
     """The case's settings with the scheme, and fixed numerics where an element length or time step is given."""
+    from presag_opt.dynamics.integrator import IntegratorSettings
+
     settings = dataclasses.replace(
-        base, integrator=dataclasses.replace(SCHEMES[args.scheme], time_step=base.integrator.time_step))
+        base, integrator=IntegratorSettings(**SCHEMES[args.scheme], time_step=base.integrator.time_step))
     if args.time_step is None and args.element_length is None:
         return settings
     return settings.with_fixed_numerics(

@@ -18,7 +18,6 @@ from presag_opt.cli.decision_options import (
     workers_of,
 )
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
-from presag_opt.report.content import REPORT_OPTIONS
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.stitch import stitch_summary
 
@@ -59,7 +58,7 @@ def report_command(args: argparse.Namespace) -> int:
 
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
-    from presag_opt.report.content import design_report
+    from presag_opt.report.content import REPORT_OPTIONS, design_report
     from presag_opt.report.html import write_report
 
     folder = output_folder(args.out)
