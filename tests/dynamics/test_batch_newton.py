@@ -4,14 +4,22 @@ The step must end with K_eff δ + s f_nl(ũ + δ, ṽ + a1 δ) = g on every exte
 integrator's tolerance: the nonlinear forces are evaluated here in NumPy from the laws of
 :mod:`presag_opt.dynamics.laws` (an independent evaluation of the residual), δ rebuilt from what
 the step leaves for sweep 3 and from the pantographs' new state.
+
+Slow tier: calling the step from Python compiles it on its own, with everything numba inlines into it
+(about 30 s of one core on every run, cold or warm: the kernel's cache does not cover it); the
+default tier checks the same step end to end (tests/dynamics/test_batch.py: the batch against the
+single-run engine, bit for bit where both take the same path).
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import scipy.linalg as sla
 
 from presag_opt.dynamics import batch_newton, kernel_data, laws
+
+pytestmark = pytest.mark.slow
 
 
 def _nonlinear(batch, u, v):

@@ -43,6 +43,7 @@ def one_worker():
     return _run(InstallationErrors(dropper_length=5e-3, contact_wire_height=3e-3), samples=3, seed=7, chunk=2)
 
 
+@pytest.mark.e2e  # a pool of spawned worker processes
 def test_results_do_not_depend_on_the_worker_count(one_worker):
     two = _run(InstallationErrors(dropper_length=5e-3, contact_wire_height=3e-3), samples=3, seed=7, workers=2,
                chunk=1)

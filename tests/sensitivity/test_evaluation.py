@@ -52,6 +52,7 @@ def test_a_failed_evaluation_is_kept_with_its_inputs_and_reason_and_the_others_g
         evaluate_rows(lambda row: 1 / 0, rows[:2])
 
 
+@pytest.mark.e2e  # worker processes and a Dask cluster
 def test_chunks_and_a_dask_cluster_give_the_rows_in_order():
     """Rows run in chunks (one task each) and on a Dask cluster come back as evaluated one by one."""
     distributed = pytest.importorskip("distributed")
