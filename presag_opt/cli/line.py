@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import time
+from pathlib import Path
 
 from presag_opt.cli.common import (
     add_json_flag,
@@ -26,6 +28,7 @@ from presag_opt.cli.decision_options import (
     print_decision,
     workers_of,
 )
+from presag_opt.system.dropper_type import DEFAULT_DROPPER_TYPE
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -60,6 +63,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--dynamic-check", action="store_true",
                    help="also simulate the band's worst points (top speed, lowest and highest static force) on the "
                         "section with the largest static uplift, as built")
+    p.add_argument("--round", metavar="MM", type=float, default=0.0,
+                   help="round the cut lengths to the crew's cutting step in mm (default 0: exact); the rounding "
+                        "error (uniform ±step/2 on every dropper) goes into the installation tolerance: the P95 "
+                        "waviness of the rounded schedule beside the exact one, and a crew tolerance never below the "
+                        "pre-sag error rounding alone causes")
+    p.add_argument("--dropper-type", metavar="TYPE", default=DEFAULT_DROPPER_TYPE,
+                   help="dropper type whose terminal and loop allowances make the cut length: a built-in name or a "
+                        f"model file (default {DEFAULT_DROPPER_TYPE}, allowances assumed)")
     p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx")
     add_json_flag(p)
     p.set_defaults(handler=design_command)
@@ -67,23 +78,40 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def design_command(args: argparse.Namespace) -> int:
     """Handler of ``presag design``."""
-    import warnings
-
     from presag_opt.design.line import LineOptions
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
-    from presag_opt.pipeline.line import answer_line
-    from presag_opt.report.line_report import LINE_OPTIONS, write_line_outputs
+    from presag_opt.system.dropper_type import check_step, load_dropper_type
     from presag_opt.system.loader import load_catenary
     from presag_opt.system.survey import load_survey
 
+    round_step = check_step(args.round * 1e-3)
+    dropper_type = load_dropper_type(args.dropper_type)
     survey = load_survey(args.survey, working_width=args.working_width * 1e-3)
     base = load_catenary(args.system)
     band = operating_band(args)
     check_band_speed(args, [base])
-    options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=workers_of(args))
+    options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=workers_of(args),
+                          round_step=round_step, dropper_type=dropper_type)
     settings = decision_settings(args)
+    created = not Path(args.out).exists()
     folder = output_folder(args.out)
+    try:
+        return _design(args, survey, base, band, options, settings, dropper_type, folder)
+    except BaseException:
+        if created:  # a failed run leaves no folder behind that it made
+            shutil.rmtree(folder, ignore_errors=True)
+        raise
+
+
+def _design(args, survey, base, band, options, settings, dropper_type, folder) -> int:
+    """The work of ``presag design`` once its input is read and checked (see :func:`design_command`)."""
+    import warnings
+
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
+    from presag_opt.pipeline.line import answer_line
+    from presag_opt.report.line_report import LINE_OPTIONS, write_line_outputs
+
+    round_step = options.round_step
     dynamic = None
     if args.dynamic_robust:
         dynamic = DynamicOptions(workers=workers_of(args))
@@ -109,6 +137,13 @@ def design_command(args: argparse.Namespace) -> int:
             "spans_flagged": {flag: [f"{s.section}/{s.from_mast}-{s.to_mast}" for s in spans]
                               for flag, spans in answer.flagged().items()},
             "droppers": len(design.droppers),
+            "dropper_type": dropper_type.describe(),
+            "round_mm": round_step * 1e3,
+            "rounding": [{"section": section, "step_mm": r.step * 1e3, "waviness_exact_mm": r.waviness_exact * 1e3,
+                          "waviness_p95_rounded_mm": {"value": r.waviness_p95 * 1e3,
+                                                      "ci": [v * 1e3 for v in r.waviness_p95_ci]},
+                          "presag_error_p95_mm": r.presag_error_p95 * 1e3, "samples": r.samples}
+                         for section, r in design.rounding()],
             "rules_failing": [{"section": r.section, "rule": r.rule, "status": r.status, "worst": r.worst}
                               for r in design.rules if not r.passed],
             "notes": list(design.notes),
@@ -126,6 +161,12 @@ def design_command(args: argparse.Namespace) -> int:
             low, high = s.tolerance
             print(f"Span {s.section}/{s.from_mast}–{s.to_mast}: built {s.presag * 1e3:.1f} mm, {flag} "
                   f"{low * 1e3:.1f}–{high * 1e3:.1f} mm")
+    print(f"Cut lengths: {dropper_type.describe()}, "
+          + (f"rounded to {round_step * 1e3:g} mm" if round_step else "exact (no --round)"))
+    for section, r in design.rounding():
+        print(f"Rounding to {r.step * 1e3:g} mm, section {section}: P95 waviness {r.waviness_p95 * 1e3:.1f} mm "
+              f"({r.waviness_p95_ci[0] * 1e3:.1f}–{r.waviness_p95_ci[1] * 1e3:.1f}) beside {r.waviness_exact * 1e3:.1f} mm "
+              f"exact; mid-span pre-sag error P95 ±{r.presag_error_p95 * 1e3:.1f} mm")
     for note in design.notes:
         print(f"Note: {note}")
     for r in design.rules:

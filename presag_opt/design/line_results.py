@@ -27,6 +27,41 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True)
+class RoundingEffect:
+    """What rounding the cut lengths to the crew's step does to one section, by quasi-static Monte Carlo.
+
+    Every dropper's cut length gets an independent error uniform in ±step/2 (the rounding error of a
+    length that does not fall on the step); the section's design is its sized spans' quasi-static robust
+    parabolas, on the path model the span rule sized them with.
+
+    Attributes
+    ----------
+    step : float
+        The cutting step. [m]
+    waviness_exact : float
+        Worst-case path waviness over the F_m band of the exact schedule. [m]
+    waviness_p95 : float
+        Its P95 over the rounded builds. [m]
+    waviness_p95_ci : tuple of float
+        The 95 % order-statistic interval of that P95. [m]
+    presag_error_p95 : float
+        P95 of the largest mid-span pre-sag error over the sized spans from rounding alone. [m]
+    samples : int
+        Realisations. [-]
+    seed : int
+        Seed of the draws. [-]
+    """
+
+    step: float
+    waviness_exact: float
+    waviness_p95: float
+    waviness_p95_ci: tuple[float, float]
+    presag_error_p95: float
+    samples: int
+    seed: int
+
+
+@dataclass(frozen=True, kw_only=True)
 class SpanPresags:
     """A section's pre-sag per span from a span rule (e.g. the per-span robust rule).
 
@@ -43,6 +78,8 @@ class SpanPresags:
         The mean of the sized spans' tolerance ends in S_rel. [-]
     method : str
         What produced it (shown with the decision).
+    rounding : RoundingEffect or None
+        The effect of rounding the cut lengths to the crew's step (None: not rounded).
     """
 
     presag: np.ndarray
@@ -50,6 +87,7 @@ class SpanPresags:
     presag_rel: float
     presag_rel_tolerance: tuple[float, float]
     method: str
+    rounding: RoundingEffect | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -120,6 +158,10 @@ class LineSizing:
         """Lengths of the spans that size the pre-sag, every section. [m]"""
         return tuple(float(s.recommendation.at_band_low.span_lengths[i])
                      for s in self.sizing for i in range(len(s.recommendation.at_band_low.spans)))
+
+    def rounding(self) -> tuple[tuple[str, RoundingEffect], ...]:
+        """(section, its :class:`RoundingEffect`) of every section (empty where the cut lengths are exact)."""
+        return rounding_by_section(self.sections, self.sizing)
 
     def worst_section(self) -> int:
         """Index of the section with the largest static steady-arm uplift estimate of its sized spans."""
@@ -235,14 +277,23 @@ class DropperDesign:
     position : float
         Distance from ``from_mast``. [m]
     length : float
-        Unstretched length between the messenger and contact-wire clamp points (cut length). [m]
+        Unstretched length between the messenger and contact-wire clamp points (clamp to clamp). [m]
     contact_wire_height : float
         Contact-wire height above the rail at the dropper in the built equilibrium. [m]
     presag : float
         Depth of the contact wire below the straight line between its supports there. [m]
     stitch : bool
-        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its cut length is
-        between the stitch-wire and contact-wire clamp points).
+        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its clamp-to-clamp
+        length is between the stitch-wire and contact-wire clamp points).
+    chainage : float
+        Absolute chainage of the dropper. [m]
+    messenger_height : float
+        Height of the wire it hangs from (messenger or stitch wire) above the rail there, built. [m]
+    lateral : float
+        Lateral position of the contact wire at the dropper from the track centre line, + to the left. [m]
+    cut_length : float
+        The length to cut: ``length`` plus the dropper type's terminal and loop allowances, rounded to
+        the crew's step (:meth:`presag_opt.system.dropper_type.DropperType.cut_length`). [m]
     """
 
     section: str
@@ -255,6 +306,15 @@ class DropperDesign:
     contact_wire_height: float
     presag: float
     stitch: bool = False
+    chainage: float = 0.0
+    messenger_height: float = 0.0
+    lateral: float = 0.0
+    cut_length: float = 0.0
+
+    @property
+    def id(self) -> str:
+        """The dropper's id on a crew's sheet: section/from–to/number, e.g. ``S1/M3-M4/5``."""
+        return f"{self.section}/{self.from_mast}-{self.to_mast}/{self.dropper}"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -340,3 +400,21 @@ class LineDesign:
     def rules(self) -> tuple[RuleCheck, ...]:
         """Every design-rule check."""
         return tuple(r for sec in self.sections for r in sec.rules)
+
+    def rounding(self) -> tuple[tuple[str, RoundingEffect], ...]:
+        """(section, its :class:`RoundingEffect`) of every section (empty where the cut lengths are exact)."""
+        return rounding_by_section(self.sections, [sec.sizing for sec in self.sections])
+
+
+def rounding_by_section(sections, sizing) -> tuple[tuple[str, RoundingEffect], ...]:
+    """(section id, rounding effect) of the sections whose sizing carries one.
+
+    Parameters
+    ----------
+    sections : sequence
+        Objects with a ``section`` id (survey sections or designed ones).
+    sizing : sequence of SectionSizing
+        Their sizing, in the same order.
+    """
+    return tuple((sec.section, size.span_presags.rounding) for sec, size in zip(sections, sizing, strict=True)
+                 if size.span_presags is not None and size.span_presags.rounding is not None)

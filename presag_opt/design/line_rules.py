@@ -22,7 +22,7 @@ import numpy as np
 
 from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.system.catenary import Catenary
-from presag_opt.system.survey import SurveySection
+from presag_opt.system.survey import SurveyMast, SurveySection
 
 MAX_STAGGER = 0.400
 """Largest stagger up to 200 km/h (Bane NOR example). [m]"""
@@ -143,11 +143,26 @@ def lateral_excursion(section: SurveySection) -> tuple[float, str]:
     """
     best, where = 0.0, ""
     for a, b in zip(section.masts[:-1], section.masts[1:]):
-        length = b.chainage - a.chainage
-        x = np.linspace(0.0, length, 201)
-        curve = 0.0 if a.curve_radius == 0.0 else x * (length - x) / (2.0 * a.curve_radius)
-        y = np.abs(a.stagger + (b.stagger - a.stagger) * x / length + curve)
+        x = np.linspace(0.0, b.chainage - a.chainage, 201)
+        y = np.abs(lateral_offset(a, b, x))
         k = int(np.argmax(y))
         if y[k] > best:
             best, where = float(y[k]), f"at {x[k]:.1f} m from mast {a.mast}"
     return best, where
+
+
+def lateral_offset(a: SurveyMast, b: SurveyMast, x: np.ndarray) -> np.ndarray:
+    """Lateral offset of the contact wire from the track centre line in the span from mast ``a`` to ``b``,
+    + to the left: s_a + (s_b − s_a)·x/l + x(l − x)/(2R) (small-angle; :func:`lateral_excursion`). [m]
+
+    Parameters
+    ----------
+    a, b : SurveyMast
+        The span's masts (``a`` carries its curve radius).
+    x : ndarray
+        Distances from ``a``. [m]
+    """
+    length = b.chainage - a.chainage
+    x = np.asarray(x, dtype=float)
+    curve = 0.0 if a.curve_radius == 0.0 else x * (length - x) / (2.0 * a.curve_radius)
+    return a.stagger + (b.stagger - a.stagger) * x / length + curve

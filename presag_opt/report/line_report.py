@@ -13,14 +13,23 @@ from pathlib import Path
 
 from presag_opt.design.band import KMH
 from presag_opt.design.line_results import LineDesign
-from presag_opt.errors import ModelError
 from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
 from presag_opt.report.html import CSS, _e, _table, decision_html
+from presag_opt.report.line_sheets import PRINT_CSS, add_sheets, sheets_html
 from presag_opt.style import new_figure, save_figure, styled
 
-DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
-                   "contact_wire_height_mm", "presag_mm")
-"""Columns of ``droppers.csv``."""
+DROPPER_COLUMNS = ("dropper_id", "section", "span", "from_mast", "to_mast", "dropper", "chainage_m", "x_from_mast_m",
+                   "dropper_length_mm", "cut_length_mm", "messenger_height_mm", "contact_wire_height_mm", "lateral_mm",
+                   "presag_mm")
+"""Columns of ``droppers.csv``: the id (section/from–to/number), the absolute chainage, the distance from
+``from_mast``, the clamp-to-clamp length, the cut length (with the dropper type's terminal and loop
+allowances, rounded to ``--round``), the heights of the wire it hangs from and of the contact wire above
+the rail, the contact wire's lateral position (+ to the left of the track centre line) and its depth below
+the line between its supports."""
+
+ROUNDING_COLUMNS = ("section", "step_mm", "waviness_exact_mm", "waviness_p95_rounded_mm", "p95_ci_low_mm",
+                    "p95_ci_high_mm", "presag_error_p95_mm", "samples")
+"""Columns of the rounding table (``rounding.csv``, the workbook's sheet and the page)."""
 
 SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_rel_permille",
                 "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm",
@@ -57,11 +66,23 @@ def _stitched(design: LineDesign) -> bool:
 def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
     """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
     stitched = _stitched(design)
-    return [{"section": d.section, "span": d.span, "from_mast": d.from_mast, "to_mast": d.to_mast, "dropper": d.dropper,
-             "x_from_mast_m": round(d.position, 3), "dropper_length_mm": round(d.length * 1e3, 1),
-             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "presag_mm": round(d.presag * 1e3, 1),
+    return [{"dropper_id": d.id, "section": d.section, "span": d.span, "from_mast": d.from_mast, "to_mast": d.to_mast,
+             "dropper": d.dropper, "chainage_m": round(d.chainage, 3), "x_from_mast_m": round(d.position, 3),
+             "dropper_length_mm": round(d.length * 1e3, 1), "cut_length_mm": round(d.cut_length * 1e3, 1),
+             "messenger_height_mm": round(d.messenger_height * 1e3, 1),
+             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "lateral_mm": round(d.lateral * 1e3, 1),
+             "presag_mm": round(d.presag * 1e3, 1),
              **({"hangs_from": "stitch wire" if d.stitch else "messenger"} if stitched else {})}
             for d in design.droppers]
+
+
+def rounding_rows(design: LineDesign) -> list[dict[str, object]]:
+    """The rounding Monte Carlo of every section as table rows (mm; empty where the lengths are exact)."""
+    return [{"section": section, "step_mm": round(r.step * 1e3, 3), "waviness_exact_mm": round(r.waviness_exact * 1e3, 2),
+             "waviness_p95_rounded_mm": round(r.waviness_p95 * 1e3, 2),
+             "p95_ci_low_mm": round(r.waviness_p95_ci[0] * 1e3, 2), "p95_ci_high_mm": round(r.waviness_p95_ci[1] * 1e3, 2),
+             "presag_error_p95_mm": round(r.presag_error_p95 * 1e3, 2), "samples": r.samples}
+            for section, r in design.rounding()]
 
 
 def _mm(value: float | None, digits: int = 1) -> object:
@@ -106,7 +127,7 @@ def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = F
     folder : str or Path
         Output folder (created if missing).
     xlsx : bool
-        Also write the tables as one workbook (needs openpyxl).
+        Also write the tables and the crew's sheets as one workbook.
 
     Returns
     -------
@@ -117,6 +138,8 @@ def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = F
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     tables = {"droppers": (dropper_columns(design), dropper_rows(design)), "spans": (SPAN_COLUMNS, span_rows(answer))}
+    if design.rounding():
+        tables["rounding"] = (ROUNDING_COLUMNS, rounding_rows(design))
     out = {}
     for name, (columns, rows) in tables.items():
         path = folder / f"{name}.csv"
@@ -133,10 +156,8 @@ def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = F
 
 
 def _write_workbook(answer: LineAnswer, tables: dict, path: Path) -> Path:
-    try:
-        import openpyxl
-    except ImportError as exc:
-        raise ModelError("--xlsx needs openpyxl: pip install 'presag-opt[xlsx]'") from exc
+    import openpyxl  # imported here: only --xlsx pays for it
+
     book = openpyxl.Workbook()
     book.remove(book.active)
     sheet = book.create_sheet("decision")
@@ -151,6 +172,7 @@ def _write_workbook(answer: LineAnswer, tables: dict, path: Path) -> Path:
     sheet.append(["section", "rule", "applies", "status", "worst"])
     for r in answer.design.rules:
         sheet.append([r.section, r.rule, r.applies, r.status, r.worst])
+    add_sheets(book, answer.design)
     book.save(path)
     return path
 
@@ -161,8 +183,10 @@ def line_page(answer: LineAnswer) -> str:
     band = design.band
     low, high = band.mean_force_band()
     parts = ["<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Line design</title>"
-             f"<style>{CSS}</style></head><body>",
+             f"<style>{CSS}{PRINT_CSS}</style></head><body><div class='screen-only'>",
              f"<h1>Line design: {_e(design.survey.source)} on {_e(design.base_name)}</h1>",
+             "<p><small>Printing this page prints the crew's dropper sheets only (one section per page, the "
+             "headers repeated); they follow the report below.</small></p>",
              decision_html(answer.decision, LINE_OPTIONS, answer.lines(LINE_OPTIONS))]
     failing = [r for r in design.rules if not r.passed]
     if failing:
@@ -196,8 +220,16 @@ def line_page(answer: LineAnswer) -> str:
               "— (termination)" if s.static_uplift is None else f"{s.static_uplift * 1e3:.1f}",
               _tolerance_text(s), answer.flag(s) or s.note] for s in sec.spans],
             {0, 2, 3, 4, 5, 6}))
+    if design.rounding():
+        parts.append("<h2 id='rounding'>Rounding of the cut lengths</h2><p>Every cut length rounded to the crew's step "
+                     "is built with an error in ±step/2: a quasi-static Monte Carlo with that error, uniform and "
+                     "independent on every dropper, on each section's quasi-static robust design. The crew tolerance "
+                     "of the decision is never below the P95 pre-sag error rounding alone causes.</p>"
+                     + _table(list(ROUNDING_COLUMNS), [[row[c] for c in ROUNDING_COLUMNS] for row in rounding_rows(design)],
+                              set(range(1, 8))))
     parts.append("<p><small>Generated by presag_opt. Method: Schick, Liu &amp; Stichel, Railway Sciences (2025), "
-                 "doi:10.1108/RS-05-2025-0016.</small></p></body></html>")
+                 "doi:10.1108/RS-05-2025-0016.</small></p></div>")
+    parts.append("<h2 class='screen-only' id='sheets'>Dropper sheets</h2>" + sheets_html(design) + "</body></html>")
     return "\n".join(parts)
 
 

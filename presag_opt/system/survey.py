@@ -317,8 +317,13 @@ def survey_from_rows(rows: Iterable[tuple[str, Mapping[str, object]]], *, source
 
 
 def _csv_rows(path: Path) -> list[tuple[str, dict]]:
+    """The rows of a CSV survey; a header without commas but with semicolons (Excel in a locale whose decimal
+    mark is a comma) is read with semicolons between the fields."""
     with path.open(newline="", encoding="utf-8-sig") as handle:
-        reader = csv.DictReader(handle)
+        first = handle.readline()
+        handle.seek(0)
+        delimiter = ";" if ";" in first and "," not in first else ","
+        reader = csv.DictReader(handle, delimiter=delimiter)
         _check_header(path.name, reader.fieldnames or [])
         rows = []
         for row in reader:
@@ -329,10 +334,8 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
 
 
 def _xlsx_rows(path: Path) -> list[tuple[str, dict]]:
-    try:
-        import openpyxl
-    except ImportError as exc:  # an optional dependency
-        raise SurveyError("reading .xlsx needs openpyxl: pip install 'presag-opt[xlsx]'") from exc
+    import openpyxl  # imported here: only an xlsx survey pays for it
+
     try:
         book = openpyxl.load_workbook(path, read_only=True, data_only=True)
     except Exception as exc:  # openpyxl raises several types for files it cannot read
@@ -369,6 +372,11 @@ def _toml_rows(path: Path) -> list[tuple[str, dict]]:
 def _check_header(where: str, header: list[str]) -> None:
     names = [h.strip() for h in header]
     missing = [c for c in COLUMNS if c not in names]
+    if missing and len(names) == 1 and (";" in names[0] or "\t" in names[0]):
+        found = "semicolons" if ";" in names[0] else "tabs"
+        raise SurveyError(f"survey file {where}: the header is one column holding {found} ({names[0][:60]!r}); "
+                          "separate the columns with commas (or semicolons throughout, with none of the header's "
+                          "names holding a comma)")
     if missing:
         raise SurveyError(f"survey file {where}: column {missing[0]!r} is missing (columns: {', '.join(COLUMNS)}, "
                           f"optionally {', '.join(OPTIONAL_COLUMNS)})")
