@@ -71,7 +71,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--dropper-type", metavar="TYPE", default=DEFAULT_DROPPER_TYPE,
                    help="dropper type whose terminal and loop allowances make the cut length: a built-in name or a "
                         f"model file (default {DEFAULT_DROPPER_TYPE}, allowances assumed)")
-    p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx")
+    p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx (the tables and the crew's "
+                   "sheets)")
+    p.add_argument("--dxf", action="store_true", help="also write DIR/line_design.dxf: the longitudinal profile (masts, "
+                   "both wires, droppers with their ids) and the developed plan (track centre line, staggers), on named "
+                   "layers in metres")
     add_json_flag(p)
     p.set_defaults(handler=design_command)
 
@@ -122,7 +126,7 @@ def _design(args, survey, base, band, options, settings, dropper_type, folder) -
         answer = answer_line(survey, base, band, options=options, within=settings["within"],
                              uplift_limit=settings["uplift_limit"], crew=settings["crew"], study=settings["study"],
                              check=args.dynamic_check, dynamic=dynamic, progress=report)
-        paths = write_line_outputs(answer, folder, xlsx=args.xlsx)
+        paths = write_line_outputs(answer, folder, xlsx=args.xlsx, dxf=args.dxf)
     seconds = time.perf_counter() - start
     print_warnings(str(w.message) for w in caught)
     design = answer.design

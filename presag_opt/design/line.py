@@ -41,7 +41,7 @@ from presag_opt.design.line_results import (
     SectionSizing,
     SpanDesign,
 )
-from presag_opt.design.line_rules import check_rules
+from presag_opt.design.line_rules import check_rules, span_gradients
 from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import SectionElasticity, default_spans, section_curves
 from presag_opt.design.survey_terms import in_survey_terms
@@ -336,6 +336,7 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     arm = state.steady_arm_forces()
     inner = _sized_spans(catenary)
     own = sizing.span_presags
+    gradients, changes = span_gradients(section)
 
     def span_design(s: int) -> SpanDesign:
         termination = s == 0  # from_mast of the first span is the section's termination
@@ -348,7 +349,8 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
             static_uplift=None if termination else top * float(curves[s].elasticity[0]), sized=s in inner,
             tolerance=(float(own.tolerance[s, 0]), float(own.tolerance[s, 1])) if checked else None,
             robust_presag=float(own.presag[s]) if checked else None,
-            note="" if s in inner else END_SPAN_NOTE)
+            note="" if s in inner else END_SPAN_NOTE, uniformity=curves[s].uniformity, curve=curves[s],
+            gradient=float(gradients[s]), gradient_change=None if s == 0 else float(changes[s - 1]))
 
     spans = tuple(span_design(s) for s in range(len(lengths)))
     droppers = section_droppers(state, built_model, section, dropper_type, round_step)

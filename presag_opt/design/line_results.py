@@ -16,6 +16,7 @@ from presag_opt.design.evidence import DeltaERule, QuasiStaticRobust
 from presag_opt.design.line_rules import RuleCheck
 from presag_opt.design.recommendation import LayoutRecommendation
 from presag_opt.design.section import SectionElasticity
+from presag_opt.elasticity import ElasticityCurve
 from presag_opt.evaluation_store import Evaluation
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey
@@ -237,6 +238,14 @@ class SpanDesign:
         The span's own quasi-static robust pre-sag (with ``tolerance``). [m]
     note : str
         Why the span is not sized or checked (empty for a sized span).
+    uniformity : float
+        (e_max − e_min)/(e_max + e_min) along the span as built, at the band-centre F_m. [-]
+    curve : ElasticityCurve or None
+        The elasticity e(x) along the span as built, at the band-centre F_m.
+    gradient : float
+        Contact-wire gradient between the span's masts, (h_to − h_from)/l, + rising. [-]
+    gradient_change : float or None
+        Change of gradient from the section's previous span (None for its first span). [-]
     """
 
     section: str
@@ -255,6 +264,10 @@ class SpanDesign:
     tolerance: tuple[float, float] | None = None
     robust_presag: float | None = None
     note: str = ""
+    uniformity: float = 0.0
+    curve: ElasticityCurve | None = None
+    gradient: float = 0.0
+    gradient_change: float | None = None
 
     def margins(self) -> tuple[float, float] | None:
         """Distance of the built pre-sag above the low and below the high end of its own tolerance

@@ -1,4 +1,4 @@
-"""The outputs of a designed line: ``droppers.csv``, ``spans.csv``, ``index.html`` and an xlsx workbook.
+"""The outputs of a designed line: ``droppers.csv``, ``spans.csv``, ``index.html``, an xlsx workbook and a DXF.
 
 Edge units (mm, m, N, mm/N, ‰) as the column names say. Spans count from 1 within each section,
 droppers from 1 within each span, from ``from_mast``.
@@ -13,8 +13,11 @@ from pathlib import Path
 
 from presag_opt.design.band import KMH
 from presag_opt.design.line_results import LineDesign
+from presag_opt.design.line_rules import gradient_limits, gradient_status
 from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
 from presag_opt.report.html import CSS, _e, _table, decision_html
+from presag_opt.report.line_dxf import write_dxf
+from presag_opt.report.line_figures import embedded, plot_elasticity_along, plot_profile
 from presag_opt.report.line_sheets import PRINT_CSS, add_sheets, sheets_html
 from presag_opt.style import new_figure, save_figure, styled
 
@@ -34,12 +37,15 @@ ROUNDING_COLUMNS = ("section", "step_mm", "waviness_exact_mm", "waviness_p95_rou
 SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_rel_permille",
                 "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm",
                 "robust_presag_mm", "presag_tolerance_low_mm", "presag_tolerance_high_mm", "margin_low_mm",
-                "margin_high_mm", "flag", "note")
+                "margin_high_mm", "flag", "note", "uniformity", "gradient_permille", "gradient_change_permille",
+                "gradient_flag")
 """Columns of ``spans.csv``: steady-arm pull and static uplift at ``from_mast`` (empty where it is the
 section's termination, which has no steady arm); the span's own quasi-static robust pre-sag and
 tolerance interval on the built geometry, the built pre-sag's margin to each end (negative: outside)
 and its flag (:data:`presag_opt.pipeline.line.SPAN_FLAGS`); why a span is not sized (empty for an end span's
-tolerance columns)."""
+tolerance columns); the uniformity (e_max − e_min)/(e_max + e_min) of e(x) as built; the contact-wire
+gradient between its masts (+ rising) and its change from the section's previous span, with the limits of
+:data:`presag_opt.design.line_rules.GRADIENT_LIMITS` at the band's top speed (``gradient_flag``)."""
 
 LINE_OPTIONS = {"validity_sweep": "--study STORE", "dynamic_check": "--dynamic-check",
                 "dynamic_robust": "--dynamic-robust",
@@ -92,8 +98,11 @@ def _mm(value: float | None, digits: int = 1) -> object:
 def span_rows(answer: LineAnswer) -> list[dict[str, object]]:
     """The span table as rows (mm, m, N, mm/N, ‰)."""
     rows = []
+    gradient_limit, change_limit, _ = gradient_limits(answer.design.band.speed_high / KMH)
     for s in answer.design.spans:
         margins = s.margins() or (None, None)
+        steep = [f"gradient {g}" for g in [gradient_status(s.gradient, gradient_limit)] if g]
+        steep += [f"change {c}" for c in [gradient_status(s.gradient_change, change_limit)] if c]
         rows.append({
             "section": s.section, "span": s.span, "from_mast": s.from_mast, "to_mast": s.to_mast,
             "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
@@ -104,7 +113,9 @@ def span_rows(answer: LineAnswer) -> list[dict[str, object]]:
             "presag_tolerance_low_mm": _mm(None if s.tolerance is None else s.tolerance[0]),
             "presag_tolerance_high_mm": _mm(None if s.tolerance is None else s.tolerance[1]),
             "margin_low_mm": _mm(margins[0]), "margin_high_mm": _mm(margins[1]), "flag": answer.flag(s),
-            "note": s.note,
+            "note": s.note, "uniformity": round(s.uniformity, 4), "gradient_permille": round(s.gradient * 1e3, 3),
+            "gradient_change_permille": "" if s.gradient_change is None else round(s.gradient_change * 1e3, 3),
+            "gradient_flag": "; ".join(steep),
         })
     return rows
 
@@ -117,7 +128,8 @@ def _tolerance_text(span) -> str:
             f"({low * 1e3:+.1f} / {high * 1e3:+.1f})")
 
 
-def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = False) -> dict[str, Path]:
+def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = False,
+                       dxf: bool = False) -> dict[str, Path]:
     """Write ``droppers.csv``, ``spans.csv``, ``index.html`` (and ``line_design.xlsx``) into ``folder``.
 
     Parameters
@@ -128,6 +140,8 @@ def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = F
         Output folder (created if missing).
     xlsx : bool
         Also write the tables and the crew's sheets as one workbook.
+    dxf : bool
+        Also write the profile and the plan as ``line_design.dxf`` (:mod:`presag_opt.report.line_dxf`).
 
     Returns
     -------
@@ -150,6 +164,8 @@ def write_line_outputs(answer: LineAnswer, folder: str | Path, *, xlsx: bool = F
         out[name] = path
     if xlsx:
         out["xlsx"] = _write_workbook(answer, tables, folder / "line_design.xlsx")
+    if dxf:
+        out["dxf"] = write_dxf(design, folder / "line_design.dxf")
     out["html"] = folder / "index.html"
     out["html"].write_text(line_page(answer), encoding="utf-8")
     return out
@@ -201,25 +217,34 @@ def line_page(answer: LineAnswer) -> str:
           f"{band.speed_high / KMH:g} km/h", f"{low:.0f}–{high:.0f} N", design.options.rule,
           f"{design.presag_rel * 1e3:.3f} ‰"]]))
     parts.append("<h2 id='along'>Elasticity and pre-sag along the line</h2>" + _along_figure(design))
+    parts.append("<h2 id='profile'>Height profile</h2>" + embedded(
+        plot_profile, design, "fig-profile", "Heights above the rail of the contact wire and of the wire the droppers "
+        "hang from, at every mast and dropper as built; dashed: section boundaries; shaded: curves; red: masts "
+        "where the contact-wire height changes."))
+    parts.append("<h2 id='as-built'>Elasticity as built</h2>" + embedded(
+        plot_elasticity_along, design, "fig-elasticity", "The elasticity e(x) along every span at the pre-sag "
+        "built, at the band-centre F_m (top), and each span's uniformity (e_max − e_min)/(e_max + e_min) (bottom)."))
     if answer.check is not None:
         parts.append("<h2 id='dynamic'>Dynamic check</h2>" + _check_html(answer.check, answer.decision.evidence.uplift_limit))
     parts.append("<h2 id='rules'>Design rules</h2><p>Public examples from Bane NOR's technical regulations for "
                  "contact line systems; each is stated for a speed range.</p>" + _table(
         ["section", "rule", "applies at this band", "status", "worst"],
         [[r.section, r.rule, "yes" if r.applies else "no", r.status, r.worst] for r in design.rules]))
+    rows = {(r["section"], r["span"]): r["gradient_flag"] for r in span_rows(answer)}
     for sec in design.sections:
         rec = sec.sizing.recommendation
         parts.append(f"<h2 id='section-{_e(sec.section)}'>Section {_e(sec.section)}</h2><p>S_rel range over the band "
                      f"(Δe rule, inner spans): {rec.presag_rel_range[0] * 1e3:.3f}–{rec.presag_rel_range[1] * 1e3:.3f} ‰; "
                      f"β_max {rec.speed.beta_max:.2f}.</p>" + _table(
             ["span", "masts", "l [m]", "S [mm]", "e_mid [mm/N]", "e_mast [mm/N]", "Δe [mm/N]", "steady arm [N]",
-             "static uplift [mm]", "own tolerance [mm] (margins)", "flag"],
+             "static uplift [mm]", "own tolerance [mm] (margins)", "uniformity", "gradient [‰]", "flag"],
             [[s.span, f"{s.from_mast}–{s.to_mast}", f"{s.length:.1f}", f"{s.presag * 1e3:.1f}", f"{s.e_mid * 1e3:.3f}",
               f"{s.e_mast * 1e3:.3f}", f"{s.delta_e * 1e3:.3f}",
               "— (termination)" if s.steady_arm_force is None else f"{s.steady_arm_force:.0f}",
               "— (termination)" if s.static_uplift is None else f"{s.static_uplift * 1e3:.1f}",
-              _tolerance_text(s), answer.flag(s) or s.note] for s in sec.spans],
-            {0, 2, 3, 4, 5, 6}))
+              _tolerance_text(s), f"{s.uniformity:.3f}", f"{s.gradient * 1e3:+.2f}",
+              "; ".join(f for f in (answer.flag(s) or s.note, rows[(sec.section, s.span)]) if f)] for s in sec.spans],
+            {0, 2, 3, 4, 5, 6, 10, 11}))
     if design.rounding():
         parts.append("<h2 id='rounding'>Rounding of the cut lengths</h2><p>Every cut length rounded to the crew's step "
                      "is built with an error in ±step/2: a quasi-static Monte Carlo with that error, uniform and "

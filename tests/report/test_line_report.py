@@ -3,8 +3,10 @@ tolerance with the built pre-sag's margins and flag, and a termination mast with
 
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
+from presag_opt.design import CASE_STUDY_BAND
 from presag_opt.design.line_results import DropperDesign, SpanDesign
 from presag_opt.pipeline.line import SPAN_FLAGS, span_flag
 from presag_opt.report.line_report import (
@@ -30,7 +32,7 @@ def span(tolerance=None, span=2, presag=0.04612345, note=""):
 
 def answer(spans):
     """A LineAnswer stand-in with what the rows read: the spans and the crew tolerance's flag."""
-    return SimpleNamespace(design=SimpleNamespace(spans=spans), flag=lambda s: span_flag(s, CREW))
+    return SimpleNamespace(design=SimpleNamespace(spans=spans, band=CASE_STUDY_BAND), flag=lambda s: span_flag(s, CREW))
 
 
 def test_span_rows_are_in_table_units():
@@ -76,3 +78,13 @@ def test_a_line_with_stitch_droppers_says_where_each_dropper_hangs_from():
     assert [r["hangs_from"] for r in dropper_rows(stitched)] == ["stitch wire", "messenger"]
     simple = SimpleNamespace(droppers=[plain])
     assert dropper_columns(simple) == DROPPER_COLUMNS and "hangs_from" not in dropper_rows(simple)[0]
+
+
+def test_span_rows_flag_a_gradient_over_the_limit_at_the_band_s_speed():
+    # the case-study band tops at 90 km/h: gradient ≤ 1/167, change ≤ 1/333
+    steep = dataclasses.replace(span(), gradient=-7e-3, gradient_change=4e-3, uniformity=0.123456)
+    gentle = dataclasses.replace(span(), gradient=5e-3, gradient_change=2e-3)
+    rows = span_rows(answer([steep, gentle]))
+    assert rows[0]["gradient_flag"] == "gradient over 1/167; change over 1/333"
+    assert rows[0]["gradient_permille"] == -7.0 and rows[0]["uniformity"] == 0.1235
+    assert rows[1]["gradient_flag"] == ""
