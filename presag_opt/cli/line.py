@@ -38,10 +38,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="design a surveyed line: per-span pre-sag, a dropper schedule and one decision",
         description=(
             "Read a survey table (one row per mast: mast, chainage_m, stagger_mm, contact_wire_height_m, "
-            "system_height_m, curve_radius_m, steady_arm, optionally section) and design every tension section "
+            "system_height_m, curve_radius_m, steady_arm, optionally section, cant_mm, stitched) and design every tension section "
             "on the system model's wires, tensions, droppers and supports: the decision (what to build and why, "
-            "with every sized span's built pre-sag checked against its own tolerance), DIR/droppers.csv, "
-            "DIR/spans.csv and DIR/index.html (the line report). Overlap spans between sections are not modelled."
+            "with every sized span's built pre-sag checked against its own tolerance), DIR/droppers.csv (the crew's "
+            "schedule: dropper ids, chainages, heights, lateral positions and cut lengths), DIR/spans.csv, "
+            "DIR/rounding.csv with --round, and DIR/index.html (the line report with the crew's printable dropper "
+            "sheets). With cant_mm the stagger and height are as the pantograph sees them on the canted track. "
+            "Overlap spans between sections are not modelled."
         ),
     )
     p.add_argument("survey", metavar="SURVEY", help="survey table: .csv, .xlsx or .toml")

@@ -6,9 +6,7 @@ droppers from 1 within each span, from ``from_mast``.
 
 from __future__ import annotations
 
-import base64
 import csv
-import tempfile
 from pathlib import Path
 
 from presag_opt.design.band import KMH
@@ -299,10 +297,5 @@ def plot_along_line(design: LineDesign, path: str | Path) -> Path:
 
 def _along_figure(design: LineDesign) -> str:
     """:func:`plot_along_line` as an embedded PNG."""
-    with tempfile.TemporaryDirectory(prefix="presag-line-") as tmp:
-        path = plot_along_line(design, Path(tmp) / "along.png")
-        data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return (f"<figure id='fig-along'><img class='report-figure' src='data:image/png;base64,{data}' "
-            "alt='elasticity and pre-sag along the chainage'><figcaption>Elasticity at the band-centre F_m and the "
-            "pre-sag built along the chainage; dashed: section boundaries (overlap spans not modelled).</figcaption>"
-            "</figure>")
+    return embedded(plot_along_line, design, "fig-along", "Elasticity at the band-centre F_m and the pre-sag built "
+                    "along the chainage; dashed: section boundaries (overlap spans not modelled).")

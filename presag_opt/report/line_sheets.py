@@ -19,12 +19,17 @@ SHEET_HEADERS = ("dropper", "chainage [m]", "from mast [m]", "cut length [mm]", 
 
 PRINT_CSS = """
 .sheet h3 { font-size: 1rem; margin: 0.8rem 0 0.2rem; }
+.sheet td { white-space: nowrap; }
 @media print {
+  @page { size: A4; margin: 12mm; }
   body { max-width: none; margin: 0; padding: 0; font-size: 9pt; }
   .screen-only { display: none; }
   .sheet { break-before: page; }
   .sheet:first-of-type { break-before: auto; }
-  .sheet table { width: 100%; font-size: 8.5pt; }
+  .sheet h2 { font-size: 12pt; margin-top: 0; }
+  .sheet h3 { font-size: 10pt; margin: 6pt 0 2pt; }
+  .sheet table { width: 100%; font-size: 8pt; }
+  .sheet th, .sheet td { padding: 1pt 3pt; }
   thead { display: table-header-group; }
   tr, h3 { break-inside: avoid; } h3 { break-after: avoid; }
 }
