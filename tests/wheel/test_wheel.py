@@ -46,6 +46,16 @@ def test_twine_accepts_the_sdist_and_the_wheel(dist):
     assert checked.stdout.count("PASSED") == 2, checked.stdout
 
 
+def test_the_sdist_holds_the_source_the_licence_and_the_citation(dist):
+    import tarfile
+
+    (sdist,) = dist.glob("presag_opt-*.tar.gz")
+    names = {n.split("/", 1)[1] for n in tarfile.open(sdist).getnames() if "/" in n}
+    assert {"LICENSE", "CITATION.cff", "README.md", "pyproject.toml", "presag_opt/pipeline/band.py",
+            "models/cases/case_study_st98.toml"} <= names
+    assert not [n for n in names if n.startswith(("tests/", "notebooks/", "docs/"))]
+
+
 def test_the_wheel_holds_what_the_package_reads_and_nothing_else(dist):
     wheel = _wheel(dist)
     assert wheel.name == f"presag_opt-{presag_opt.__version__}-py3-none-any.whl"
