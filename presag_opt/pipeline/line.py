@@ -134,6 +134,14 @@ class LineAnswer:
         headline = self.decision.headline(lengths, built)
         return headline + (f" — {counts} (spans.csv)" if counts else "")
 
+    def advice(self) -> str:
+        """What to do about flagged spans ("" when none is flagged or each span already has its own design)."""
+        if not any(self.flagged().values()) or self.design.options.rule == "robust":
+            return ""
+        return ("one pre-sag for the whole line leaves these spans near or beyond an end of their own tolerance; "
+                "rule robust (--rule robust) builds each sized span at its own quasi-static robust pre-sag, inside "
+                "its own tolerance")
+
     def lines(self, options: dict[str, str]) -> list[str]:
         """The decision as printed for the line (see :meth:`presag_opt.design.decision.Decision.lines`).
 

@@ -155,4 +155,4 @@ def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(presag, t
     built = [float(r["presag_mm"]) for r in spans]
     assert (f"each sized span its own quasi-static robust pre-sag, {min(built):.1f}–{max(built):.1f} mm as built "
             "(the end spans at their section's mean)") in summary["headline"]
-    assert "× span length" not in summary["headline"]
+    assert "× span length" not in summary["headline"] and summary["advice"] == ""
