@@ -21,18 +21,6 @@ def test_every_subpackage_and_data_folder_is_listed_for_the_wheel():
     assert listed == found | models, (sorted(found | models - listed), sorted(listed - found - models))
 
 
-def test_the_version_is_written_once_and_cited_and_logged():
-    """``presag_opt.version`` is the one place: the metadata reads it, and the citation file and the
-    changelog name it."""
-    import presag_opt
-
-    assert PROJECT["project"]["dynamic"] == ["version"] and "version" not in PROJECT["project"]
-    assert PROJECT["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "presag_opt.version.VERSION"}
-    citation = (ROOT / "CITATION.cff").read_text()
-    assert f"\nversion: {presag_opt.__version__}\n" in citation
-    assert f"## {presag_opt.__version__} " in (ROOT / "docs" / "project" / "changelog.md").read_text()
-
-
 def test_every_data_file_of_the_package_is_declared():
     """Each non-Python file inside ``presag_opt/`` matches a ``package-data`` pattern of its package."""
     data = PROJECT["tool"]["setuptools"]["package-data"]
