@@ -143,6 +143,7 @@ def _design(args, survey, base, band, options, settings, dropper_type, folder) -
             "spans": len(design.spans),
             "spans_flagged": {flag: [f"{s.section}/{s.from_mast}-{s.to_mast}" for s in spans]
                               for flag, spans in answer.flagged().items()},
+            "advice": answer.advice(),
             "droppers": len(design.droppers),
             "dropper_type": dropper_type.describe(),
             "round_mm": round_step * 1e3,
@@ -174,6 +175,8 @@ def _design(args, survey, base, band, options, settings, dropper_type, folder) -
         print(f"Rounding to {r.step * 1e3:g} mm, section {section}: P95 waviness {r.waviness_p95 * 1e3:.1f} mm "
               f"({r.waviness_p95_ci[0] * 1e3:.1f}–{r.waviness_p95_ci[1] * 1e3:.1f}) beside {r.waviness_exact * 1e3:.1f} mm "
               f"exact; mid-span pre-sag error P95 ±{r.presag_error_p95 * 1e3:.1f} mm")
+    if answer.advice():
+        print(f"Advice: {answer.advice()}")
     for note in design.notes:
         print(f"Note: {note}")
     for r in design.rules:
