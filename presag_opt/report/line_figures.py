@@ -52,8 +52,6 @@ def plot_profile(design: LineDesign, path: str | Path) -> Path:
         ax.plot([d.chainage for d in drop], [d.contact_wire_height for d in drop], ".", color="C0", ms=2.5,
                 label="droppers" if first else None)
         ax.vlines(x_mast, cw_mast, mw_mast, color="0.3", lw=0.8, label="masts" if first else None)
-        if i:
-            ax.axvline(x_mast[0], color="0.5", lw=0.8, ls="--")
         for s in masts:
             a, b = by_id[s.from_mast], by_id[s.to_mast]
             if a.curve_radius:
@@ -61,6 +59,7 @@ def plot_profile(design: LineDesign, path: str | Path) -> Path:
             if abs(b.contact_wire_height - a.contact_wire_height) > 1e-6:
                 ax.annotate(f"{b.mast}: {b.contact_wire_height:.2f} m", (b.chainage, b.contact_wire_height),
                             xytext=(0, -14), textcoords="offset points", ha="center", fontsize=7, color="C3")
+    mark_sections(design, (ax,))
     ax.set_xlabel("chainage [m]")
     ax.set_ylabel("height above the rail [m]")
     ax.legend(loc="upper right", fontsize=8)
@@ -88,10 +87,24 @@ def plot_elasticity_along(design: LineDesign, path: str | Path) -> Path:
     bottom.bar(mid, [s.uniformity for s in design.spans], width=[0.8 * s.length for s in design.spans], color="C1")
     bottom.set_ylabel("uniformity [-]")
     bottom.set_xlabel("chainage [m]")
-    for sec in design.sections[1:]:
-        for ax in (top, bottom):
-            ax.axvline(sec.spans[0].chainage, color="0.5", lw=0.8, ls="--")
+    mark_sections(design, (top, bottom))
     return save_figure(fig, path)
+
+
+def mark_sections(design: LineDesign, axes) -> None:
+    """Draw the boundaries between the line's sections (dashed, at each later section's first mast) on axes
+    whose x is the chainage.
+
+    Parameters
+    ----------
+    design : LineDesign
+        The line.
+    axes : sequence of matplotlib Axes
+        The panels.
+    """
+    for sec in design.sections[1:]:
+        for ax in axes:
+            ax.axvline(sec.spans[0].chainage, color="0.5", lw=0.8, ls="--")
 
 
 def embedded(plot: Callable[[LineDesign, Path], Path], design: LineDesign, key: str, caption: str) -> str:

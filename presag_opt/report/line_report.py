@@ -15,7 +15,7 @@ from presag_opt.design.line_rules import gradient_limits, gradient_status
 from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
 from presag_opt.report.html import CSS, _e, _table, decision_html
 from presag_opt.report.line_dxf import write_dxf
-from presag_opt.report.line_figures import embedded, plot_elasticity_along, plot_profile
+from presag_opt.report.line_figures import embedded, mark_sections, plot_elasticity_along, plot_profile
 from presag_opt.report.line_sheets import PRINT_CSS, add_sheets, sheets_html
 from presag_opt.style import new_figure, save_figure, styled
 
@@ -289,9 +289,7 @@ def plot_along_line(design: LineDesign, path: str | Path) -> Path:
     bottom.bar(mid, [s.presag * 1e3 for s in spans], width=[0.8 * s.length for s in spans], label="pre-sag built")
     bottom.set_ylabel("pre-sag [mm]")
     bottom.set_xlabel("chainage [m]")
-    for sec in design.sections[1:]:
-        for ax in (top, bottom):
-            ax.axvline(sec.spans[0].chainage, color="0.5", lw=0.8, ls="--")
+    mark_sections(design, (top, bottom))
     return save_figure(fig, path)
 
 
