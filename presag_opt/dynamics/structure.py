@@ -84,7 +84,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
+from presag_opt.dynamics.assembly import slack_dropper_contribution
+from presag_opt.dynamics.step_solvers import NO_FORCE, NonlinearForce
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.linearised import TensionOnlyStructure
@@ -299,11 +300,14 @@ class StructuralModel:
         if not len(slack):
             return NO_FORCE
         d = self.droppers
-        b = d.gradient[slack]
-        block = _block_diagonal(-d.axial_stiffness[slack, None, None] * np.einsum("ni,nj->nij", b, b))
+        force, blocks = np.empty((len(slack), 6)), np.empty((len(slack), 6, 6))
+        for i, dropper in enumerate(slack):
+            slack_dropper_contribution(axial[dropper], -d.axial_stiffness[dropper], d.gradient[dropper], force[i],
+                                       blocks[i])
+        block = _block_diagonal(blocks)
         return NonlinearForce(
             dofs=d.dofs[slack].ravel(),
-            force=-(axial[slack, None] * b).ravel(),
+            force=force.ravel(),
             stiffness=block,
             damping=self.rayleigh_beta * block,
         )

@@ -5,7 +5,7 @@ objects (an axial element and a bending triple, with their exact gradients and H
 CasADi's automatic differentiation); :func:`build_potential` maps them over all elements and
 scatters the results into global vectors and the fixed sparsity pattern of the tangent stiffness.
 Callers pass numpy arrays in and get numpy arrays (and SciPy sparse matrices) out. How the problem
-is solved lives elsewhere: Newton's method on this potential in :mod:`presag_opt.static.newton`, the
+is solved lives elsewhere: Newton's method on this potential in :mod:`presag_opt.static.equilibrium_newton`, the
 form-finding equations in :mod:`presag_opt.static.form_finding_equations` and their IPOPT solve in
 :mod:`presag_opt.static.form_finding_solver`.
 

@@ -30,8 +30,8 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
 
     import numpy as np
 
-    from presag_opt.dynamics import kernel_data as kd
-    from presag_opt.dynamics.band_rows import lower_rows, symmetric_rows, upper_rows
+    from presag_opt.dynamics.batch import kernel_data as kd
+    from presag_opt.dynamics.batch.band_rows import lower_rows, symmetric_rows, upper_rows
     from presag_opt.dynamics.laws import scheme_constants
 
     n, n_p = 6, 2

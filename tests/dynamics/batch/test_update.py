@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics import batch_predictor, batch_update
+from presag_opt.dynamics.batch import predictor as batch_predictor
+from presag_opt.dynamics.batch import update as batch_update
 
 
 def _with_phi(batch, dofs, phi):
@@ -59,7 +60,7 @@ def test_the_end_of_the_step(synthetic_batch):
     sc.set_dofs[:2], sc.residual[:2], sc.contact_now[0] = [4, 7], [0.25, 0.5], 77.0
     sc.position[[4, 7]] = [0, 1]
     rhs_before, slack_before = st.r[4, 0], out.slack_max[0]
-    batch_update.finish_step(0, 2, 1, 2, n_phi, 3, batch.scalars, sh, st, out, w, sc, pan)
+    batch_update.close_run_step(0, 2, 1, 2, n_phi, 3, batch.scalars, sh, st, out, w, sc, pan)
     assert w.phi_count[0] == 1 and w.phi_column[0, 0] == 4 and w.phi_coefficient[0, 0] == c.s * 10.0
     delta_p = delta_lin_p - c.s * sh.pantograph_inverse[:, 1] * 5.0
     np.testing.assert_allclose(st.pantograph_u[:, 0], pan.u_pred + delta_p, rtol=1e-14)

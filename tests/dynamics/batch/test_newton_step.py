@@ -7,7 +7,7 @@ the step leaves for sweep 3 and from the pantographs' new state.
 
 Slow tier: calling the step from Python compiles it on its own, with everything numba inlines into it
 (about 30 s of one core on every run, cold or warm: the kernel's cache does not cover it); the
-default tier checks the same step end to end (tests/dynamics/test_batch.py: the batch against the
+default tier checks the same step end to end (tests/dynamics/batch/test_simulation.py: the batch against the
 single-run engine, bit for bit where both take the same path).
 """
 
@@ -17,7 +17,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from presag_opt.dynamics import batch_newton, kernel_data, laws
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.batch import kernel_data
+from presag_opt.dynamics.batch import newton_step as batch_newton
 
 pytestmark = pytest.mark.slow
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics import batch_predictor
+from presag_opt.dynamics.batch import predictor as batch_predictor
 
 
 def test_the_pantograph_predictor_is_the_newmark_predictor(synthetic_batch):

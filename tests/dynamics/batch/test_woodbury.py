@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from presag_opt.dynamics import batch_woodbury
-from presag_opt.dynamics.batch_predictor import PantographStep
+from presag_opt.dynamics.batch import woodbury as batch_woodbury
+from presag_opt.dynamics.batch.predictor import PantographStep
 
 
 def _setup(batch, dofs, seed):

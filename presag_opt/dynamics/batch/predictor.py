@@ -1,13 +1,13 @@
 """The start of one batch run's Newton step: its pantographs, droppers and residual at the predictor (numba).
 
-Once the sweeps of :mod:`presag_opt.dynamics.kernel` have formed every run's linear solution δ_lin
-on the catenary, :func:`~presag_opt.dynamics.batch_newton.newton_step` starts each run's step here:
+Once the sweeps of :mod:`presag_opt.dynamics.batch.kernel` have formed every run's linear solution δ_lin
+on the catenary, :func:`~presag_opt.dynamics.batch.newton_step.newton_step` starts each run's step here:
 the pantographs' predictors, right-hand side and δ_lin (:func:`pantograph_predictor`, a
 :class:`PantographStep`), the droppers' stretch at the predictor and the stretch δ_lin adds, with
 the contact nodes and pantograph DOFs at the predictor (:func:`predictor_state`, a
 :class:`DropperStep`), and the integrator's force scale and largest residual there
 (:func:`residual_at_predictor`). The arrays are the named tuples of
-:mod:`presag_opt.dynamics.kernel_data`.
+:mod:`presag_opt.dynamics.batch.kernel_data`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from presag_opt.dynamics import assembly
 from presag_opt.native.jit import inline
+
+newmark_predictor = inline(assembly.newmark_predictor)
 
 
 class PantographStep(NamedTuple):
@@ -67,8 +70,7 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     u_pred, v_pred, rhs, linear, g, delta_lin = (np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p),
                                                  np.empty(n_p), np.empty(n_p))
     for i in range(n_p):
-        u_pred[i] = pantograph_u[i, b] + c.time_step * pv[i, b] + c.displacement_predictor * pa[i, b]
-        v_pred[i] = pv[i, b] + c.velocity_predictor * pa[i, b]
+        u_pred[i], v_pred[i] = newmark_predictor(pantograph_u[i, b], pv[i, b], pa[i, b], c)
     for i in range(n_p):
         rhs[i] = c.alpha * pantograph_r[i, b]
     for p in range(head_dof.shape[0]):

@@ -6,15 +6,16 @@ one iterate into a small dense set: the DOFs that carry a nonlinear force, in or
 the order they enter: the penalty contact of every pantograph head with the two contact-wire nodes
 under it (:func:`contact_set`), the regularised friction of every pantograph suspension element
 (:func:`friction_set`), and every slack dropper, whose axial part is removed (:func:`dropper_set`).
-The laws are those of :mod:`presag_opt.dynamics.laws`, compiled inline (the same functions the
-single-run path calls plainly). The arrays are the named tuples of
-:mod:`presag_opt.dynamics.kernel_data`; the iteration that uses the set is
-:mod:`presag_opt.dynamics.batch_newton`'s.
+The laws are those of :mod:`presag_opt.dynamics.laws`, and the penetration and each contribution's
+force and tangent those of :mod:`presag_opt.dynamics.assembly`, compiled inline (the same functions
+the single-run path calls plainly). The arrays are the named tuples of
+:mod:`presag_opt.dynamics.batch.kernel_data`; the iteration that uses the set is
+:mod:`presag_opt.dynamics.batch.newton_step`'s.
 """
 
 from __future__ import annotations
 
-from presag_opt.dynamics import laws
+from presag_opt.dynamics import assembly, laws
 from presag_opt.native.jit import inline
 
 contact_stiffness = inline(laws.contact_stiffness)
@@ -24,6 +25,9 @@ friction = inline(laws.friction)
 dropper_axial_force = inline(laws.dropper_axial_force)
 dropper_slack = inline(laws.dropper_slack)
 dropper_tension = inline(laws.dropper_tension)
+head_penetration = inline(assembly.head_penetration)
+contact_contribution = inline(assembly.contact_contribution)
+slack_dropper_contribution = inline(assembly.slack_dropper_contribution)
 
 
 @inline
@@ -84,32 +88,26 @@ def contact_set(b, step, count, shared, runs, scratch):
                                                               runs.head_height)
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
     contact_now, u_of = scratch.contact_now, scratch.u_of
+    q, piece_force, piece_tangent = scratch.piece_dofs, scratch.piece_force, scratch.piece_tangent
     for p in range(head_dof.shape[0]):
         n1, n2 = path_nodes[b, p, step, 0], path_nodes[b, p, step, 1]
         w1, w2 = path_weights[b, p, step, 0], path_weights[b, p, step, 1]
         stiffness = contact_stiffness(penalty[p], path_compliance[b, p, step])
         head = head_dof[p]
-        wire = w1 * (cw_height[b, n1] + u_of[n1]) + w2 * (cw_height[b, n2] + u_of[n2])
-        penetration = head_height[b, p] + u_of[head] - wire
-        q1, count = enter_set(n1, set_dofs, set_force, tangent, position, count)
-        q2, count = enter_set(n2, set_dofs, set_force, tangent, position, count)
-        qh, count = enter_set(head, set_dofs, set_force, tangent, position, count)
+        penetration = head_penetration(head_height[b, p], u_of[head], w1, cw_height[b, n1], u_of[n1], w2,
+                                       cw_height[b, n2], u_of[n2])
+        q[0], count = enter_set(n1, set_dofs, set_force, tangent, position, count)
+        q[1], count = enter_set(n2, set_dofs, set_force, tangent, position, count)
+        q[2], count = enter_set(head, set_dofs, set_force, tangent, position, count)
         force = contact_force(stiffness, penetration)
         k = contact_tangent(stiffness, penetration)
         contact_now[p] = force
         if k != 0.0:
-            set_force[q1] -= w1 * force
-            set_force[q2] -= w2 * force
-            set_force[qh] += force
-            tangent[q1, q1] += k * w1 * w1
-            tangent[q1, q2] += k * w1 * w2
-            tangent[q1, qh] -= k * w1
-            tangent[q2, q1] += k * w2 * w1
-            tangent[q2, q2] += k * w2 * w2
-            tangent[q2, qh] -= k * w2
-            tangent[qh, q1] -= k * w1
-            tangent[qh, q2] -= k * w2
-            tangent[qh, qh] += k
+            contact_contribution(force, k, w1, w2, piece_force, piece_tangent)
+            for i in range(3):
+                set_force[q[i]] += piece_force[i]
+                for j in range(3):
+                    tangent[q[i], q[j]] += piece_tangent[i, j]
     return count
 
 
@@ -176,7 +174,8 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
     dropper_dofs, dropper_gradient, dropper_stiffness = shared.dropper_dofs, shared.dropper_gradient, shared.dropper_stiffness
     dropper_preload, dropper_recorded, rayleigh_beta = runs.dropper_preload, shared.dropper_recorded, scalars.rayleigh_beta
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
-    stretch, rate, q = scratch.stretch, scratch.rate, scratch.dropper_set
+    stretch, rate = scratch.stretch, scratch.rate
+    q, piece_force, piece_tangent = scratch.piece_dofs, scratch.piece_force, scratch.piece_tangent
     slack_recorded = 0
     for d in range(dropper_preload.shape[1]):
         axial = dropper_axial_force(dropper_preload[b, d], dropper_stiffness[d], stretch[d], rate[d], rayleigh_beta)
@@ -185,11 +184,12 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
         if dropper_slack(axial):
             for c in range(6):
                 q[c], count = enter_set(dropper_dofs[d, c], set_dofs, set_force, tangent, position, count)
-            k = -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta)
+            slack_dropper_contribution(axial, -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta), dropper_gradient[d],
+                                       piece_force, piece_tangent)
             for i in range(6):
-                set_force[q[i]] += -axial * dropper_gradient[d, i]
-                for c in range(6):
-                    tangent[q[i], q[c]] += k * dropper_gradient[d, i] * dropper_gradient[d, c]
+                set_force[q[i]] += piece_force[i]
+                for j in range(6):
+                    tangent[q[i], q[j]] += piece_tangent[i, j]
     return count, slack_recorded
 
 

@@ -1,14 +1,14 @@
 """Compiled time stepping of many runs on one catenary (numba), the batch index innermost.
 
 The sweeps over all DOFs live here; each run's Newton iteration on its nonlinear DOFs is
-:mod:`presag_opt.dynamics.batch_newton`'s (its parts: ``batch_predictor``, ``batch_forces``,
-``batch_woodbury``, ``batch_update``).
+:mod:`presag_opt.dynamics.batch.newton_step`'s (its parts: ``predictor``, ``forces``,
+``woodbury``, ``update``).
 
 This module holds the arithmetic of :func:`presag_opt.dynamics.batch.simulate_many`: banded
 products and solves on arrays of shape (n_dofs, n_runs), over the bands' nonzero entries
-(:mod:`presag_opt.dynamics.band_rows`), and the HHT-α step of every run. Setting up
+(:mod:`presag_opt.dynamics.batch.band_rows`), and the HHT-α step of every run. Setting up
 (matrices, orderings, contact paths, initial states) and the statistics are left to
-:mod:`presag_opt.dynamics.batch`.
+:mod:`presag_opt.dynamics.batch.system` and :mod:`presag_opt.dynamics.batch.simulation`.
 
 The step is the one of :mod:`presag_opt.dynamics.integrator` (HHT-α; Newmark for α = 0), written
 for δ = u_(n+1) − ũ, the displacement from the predictor. K_eff = a0 M + s (K + a1 C) is constant
@@ -34,9 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_forces import nonlinear_forces
-from presag_opt.dynamics.batch_newton import newton_step
-from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.forces import nonlinear_forces
+from presag_opt.dynamics.batch.kernel_data import STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.newton_step import newton_step
+from presag_opt.dynamics.batch.predictor import newmark_predictor
+from presag_opt.dynamics.batch.update import newmark_update
 from presag_opt.native import sweeps as native
 from presag_opt.native.jit import inline, kernel_function
 
@@ -44,7 +46,7 @@ from presag_opt.native.jit import inline, kernel_function
 @kernel_function
 def band_matvec(band, rows, x, out, runs):
     """out[:, :runs] = A x[:, :runs]; A symmetric, its diagonal ``band[:, 0]`` and its off-diagonal
-    nonzeros ``rows`` (:func:`~presag_opt.dynamics.band_rows.symmetric_rows`).
+    nonzeros ``rows`` (:func:`~presag_opt.dynamics.batch.band_rows.symmetric_rows`).
 
     Row by row (each output row written once, its inputs read from a window of 2·bw + 1 rows that
     stays in cache), the runs innermost.
@@ -159,7 +161,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
     (3) δ = δ_lin − s Z φ, the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the
     next step's predictors (:func:`update_sweep`). The step's force scale and residual at the
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
-    run by run on the others (:func:`~presag_opt.dynamics.batch_newton.newton_step`).
+    run by run on the others (:func:`~presag_opt.dynamics.batch.newton_step.newton_step`).
 
     The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
     function pointers ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments,
@@ -205,7 +207,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
             native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
         else:
             update_sweep(step, scalars, shared, runs, state, out, work, active)
-        finish_step(step, active, runs, out)
+        mark_finished_runs(step, active, runs, out)
 
 
 @kernel_function
@@ -268,7 +270,7 @@ def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
 
 
 @kernel_function
-def finish_step(step, active, runs, out):
+def mark_finished_runs(step, active, runs, out):
     """Mark the runs whose last step this was as finished.
 
     Parameters
@@ -417,8 +419,7 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
         Number of leading runs (columns) the sweep covers. [-]
     """
     c = scalars.scheme
-    s, a0, dt, c_a, c_v, c_g = c.s, c.a0, c.time_step, c.displacement_predictor, c.velocity_predictor, c.velocity_update
-    hht_alpha, rayleigh_beta = c.alpha, scalars.rayleigh_beta
+    s, hht_alpha, rayleigh_beta = c.s, c.alpha, scalars.rayleigh_beta
     mass, columns, support_row, n_steps = shared.mass, shared.columns, shared.support_row, runs.n_steps
     u, v, q, r = state.u, state.v, state.q, state.r
     uplift_max, status = out.uplift_max, out.status
@@ -431,12 +432,10 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
         m = mass[j]
         for b in range(active):
             dj = delta[j, b]
-            aj = a0 * dj
+            aj, vj = newmark_update(dj, v[j, b], c)
             uj = u[j, b] + dj
-            vj = v[j, b] + c_g * aj
             rj = (r[j, b] - m * aj) / s
-            up = uj + dt * vj + c_a * aj
-            vp = vj + c_v * aj
+            up, vp = newmark_predictor(uj, vj, aj, c)
             delta[j, b] = uj  # u_(n+1), kept for the support records below
             u[j, b] = up
             v[j, b] = vp

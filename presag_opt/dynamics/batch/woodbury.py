@@ -7,15 +7,15 @@ identity on that set S: the target x_S = (δ_lin − s Z f)_S − δ_S (:func:`w
 system y = (I + s T Z_SS)⁻¹ s T x_S, and the new φ = f + y/s (:func:`woodbury_correction`).
 
 It is the correction of the single-run integrator
-(:meth:`presag_opt.dynamics.newton.FactorisedSolver.correction`, whose Woodbury step is
+(:meth:`presag_opt.dynamics.step_solvers.FactorisedSolver.correction`, whose Woodbury step is
 :func:`presag_opt.static.woodbury.woodbury_update`) written for φ instead of the full δ, and it is
 not that function compiled, for three reasons: the batch never forms δ on all DOFs (sweep 3 of
-:mod:`presag_opt.dynamics.kernel` does, for all runs at once), it reads Z entry by entry from the
+:mod:`presag_opt.dynamics.batch.kernel` does, for all runs at once), it reads Z entry by entry from the
 cached columns instead of gathering a dense Z_SS, and it forms s T Z_SS by loops over the nonzero
 tangent entries in a fixed order, where the integrator's matrix products go through BLAS. The loops
 make every run's arithmetic the same IEEE operations whatever the lanes (C and numba sweeps equal to
 the last bit); calling the NumPy function would round differently, and allocate, in every
-iteration. The two stay equal to round-off (``tests/dynamics/test_batch.py`` holds the batch to the
+iteration. The two stay equal to round-off (``tests/dynamics/batch/test_simulation.py`` holds the batch to the
 single-run path).
 
 References

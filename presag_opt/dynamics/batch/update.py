@@ -1,24 +1,27 @@
 """One batch run's Newton iterate after a correction, and the end of its step (numba).
 
-After each Woodbury correction (:mod:`presag_opt.dynamics.batch_woodbury`) the new iterate
+After each Woodbury correction (:mod:`presag_opt.dynamics.batch.woodbury`) the new iterate
 δ = δ_lin − s Z φ is formed only where the nonlinear forces read it (:func:`iterate_kinematics`),
 and its forces and residual s (f − φ) on the set follow (:func:`iterate_residual`; together
 :func:`update_iterate`). A run whose iteration fails stops (:func:`fail_run`). At the step's end
-(:func:`finish_step`) φ's catenary part goes to sweep 3 of :mod:`presag_opt.dynamics.kernel`
+(:func:`close_run_step`) φ's catenary part goes to sweep 3 of :mod:`presag_opt.dynamics.batch.kernel`
 (:func:`hand_phi_to_sweep`), the pantographs take their new state (:func:`update_pantographs`), the
 final residual joins the right-hand side (:func:`join_residual`), and a run that converged at its
 predictor gets the right-hand side that makes sweep 3 exact (:func:`converged_at_predictor`, from
-sweep 1's C ṽ + K ũ). The arrays are the named tuples of :mod:`presag_opt.dynamics.kernel_data`.
+sweep 1's C ṽ + K ũ). The arrays are the named tuples of :mod:`presag_opt.dynamics.batch.kernel_data`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_forces import enter_set, nonlinear_forces
-from presag_opt.dynamics.batch_woodbury import influence
-from presag_opt.dynamics.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
+from presag_opt.dynamics import assembly
+from presag_opt.dynamics.batch.forces import enter_set, nonlinear_forces
+from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
+from presag_opt.dynamics.batch.woodbury import influence
 from presag_opt.native.jit import inline
+
+newmark_update = inline(assembly.newmark_update)
 
 
 @inline
@@ -156,9 +159,9 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
     scratch : Scratch
         Scratch arrays of the run being iterated.
     pan : PantographStep
-        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch_predictor.pantograph_predictor`).
+        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
     drop : DropperStep
-        Run ``b``'s droppers at the predictor (:func:`~presag_opt.dynamics.batch_predictor.predictor_state`).
+        Run ``b``'s droppers at the predictor (:func:`~presag_opt.dynamics.batch.predictor.predictor_state`).
     """
     iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop)
     return iterate_residual(b, step, n_phi, scalars, shared, runs, scratch)
@@ -292,10 +295,9 @@ def update_pantographs(b, taken, scalars, shared, state, pan):
     pantograph_mass, pantograph_r = shared.pantograph_mass, state.pantograph_r
     u_pred, v_pred, p_rhs, p_linear, delta_lin = pan.u_pred, pan.v_pred, pan.rhs, pan.linear, pan.delta_lin
     for i in range(pantograph_mass.shape[0]):
-        ai = c.a0 * delta_lin[i]
+        ai, state.pantograph_v[i, b] = newmark_update(delta_lin[i], v_pred[i], c)
         state.pantograph_u[i, b] = u_pred[i] + delta_lin[i]
         state.pantograph_a[i, b] = ai
-        state.pantograph_v[i, b] = v_pred[i] + c.velocity_update * ai
         if taken == 0:
             pantograph_r[i, b] = p_linear[i]
         else:
@@ -345,7 +347,7 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
 
 
 @inline
-def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan):
+def close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan):
     """The end of run ``b``'s step: φ's catenary part to ``work`` for sweep 3, the pantographs' new
     state, the final residual R joined to the right-hand side, and the step's records.
 
@@ -376,7 +378,7 @@ def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out
     scratch : Scratch
         Scratch arrays of the run being iterated.
     pan : PantographStep
-        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch_predictor.pantograph_predictor`).
+        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
     """
     s = scalars.scheme.s
     if taken == 0:

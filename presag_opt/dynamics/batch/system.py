@@ -5,7 +5,7 @@ for one catenary, pantograph train and time step: the degrees of freedom in band
 Cuthill–McKee) order, the row-wise bands of K and of the Cholesky factor of
 K_eff = a0 M + s (K + a1 C), the pantographs' small matrices, friction elements and droppers.
 :func:`integrate_batch` adds what one batch of runs needs (start states, contact paths, the columns
-of K_eff⁻¹ at every DOF a nonlinear force can reach) and runs :mod:`presag_opt.dynamics.kernel`.
+of K_eff⁻¹ at every DOF a nonlinear force can reach) and runs :mod:`presag_opt.dynamics.batch.kernel`.
 The interface (operating points, outcomes, statistics) is :mod:`presag_opt.dynamics.batch`.
 """
 
@@ -17,9 +17,9 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import kernel
-from presag_opt.dynamics.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
-from presag_opt.dynamics.kernel_data import (
+from presag_opt.dynamics.batch import kernel
+from presag_opt.dynamics.batch.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
+from presag_opt.dynamics.batch.kernel_data import (
     Records,
     Runs,
     RunState,
@@ -63,7 +63,7 @@ class BatchSystem:
         The kernel's numbers (scheme constants, Rayleigh coefficients, Newton and friction settings).
     fixed : dict
         The kernel's shared arrays that do not depend on the batch, by name (fields of
-        :class:`~presag_opt.dynamics.kernel_data.Shared`).
+        :class:`~presag_opt.dynamics.batch.kernel_data.Shared`).
     """
 
     model: StructuralModel
@@ -216,7 +216,7 @@ class BatchRecords:
     slack_max : ndarray of int
         Most recorded droppers slack at once. [-]
     status : ndarray of int
-        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped. [-]
+        :data:`~presag_opt.dynamics.batch.newton_step.STATUS_OK` or the reason the run stopped. [-]
     fail_step : ndarray of int
         Step at which a failed run stopped. [-]
     fail_residual : ndarray

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from presag_opt.dynamics.assembly import newmark_update
 from presag_opt.dynamics.laws import SchemeConstants
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.banded_solver import BandedSolver
@@ -183,8 +184,7 @@ class StepTerms:
         c : SchemeConstants
             Constants of the time-stepping scheme.
         """
-        a = c.a0 * (u - self.u_pred)
-        return a, self.v_pred + c.velocity_update * a
+        return newmark_update(u - self.u_pred, self.v_pred, c)
 
 
 def full_residual(system: EquationOfMotion, step: StepTerms, u: np.ndarray, nl: NonlinearForce) -> tuple[np.ndarray, float]:
