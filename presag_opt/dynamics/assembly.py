@@ -1,10 +1,11 @@
 """How the laws enter a time step's equations, written once for both engines.
 
 The laws themselves are :mod:`presag_opt.dynamics.laws`; this module holds the arithmetic around
-them that each engine used to write for itself: the Newmark predictor and update, the penetration of
-a pantograph head into the contact wire, and the contact's contribution (force and tangent on the
-wire's two nodes and the head). The functions are plain Python on numbers, or on NumPy arrays where
-the operations broadcast, with no call to another function: the single-run engine
+them that each engine used to write for itself: the step's matrix K_eff, the Newmark predictor and
+update, the penetration of a pantograph head into the contact wire, and the contributions of the
+contact (on the wire's two nodes and the head) and of a slack dropper (on its six DOFs) as force and
+tangent on small fixed-size arrays. The functions are plain Python on numbers, or on NumPy arrays where
+the operations broadcast, with no call to another function (K_eff, on matrices, is not compiled): the single-run engine
 (:mod:`presag_opt.dynamics.integrator`, :mod:`presag_opt.dynamics.simulate`) calls them as they
 are, and the batch kernel (:mod:`presag_opt.dynamics.batch`) compiles the same functions inline with
 numba. The written order of each operation is the order every engine rounds in; the C sweeps
@@ -26,6 +27,20 @@ N. M. Newmark, J. Eng. Mech. Div. ASCE 85 (1959) 67–94. Schick, Liu, Stichel, 
 """
 
 from __future__ import annotations
+
+
+def effective_stiffness(mass, damping, stiffness, scheme):
+    """The step's constant matrix K_eff = a0 M + s (K + a1 C) [N/m], of sparse or dense matrices
+    (every engine's, the catenary's and the pantographs'; not compiled).
+
+    Parameters
+    ----------
+    mass, damping, stiffness : sparse matrix or ndarray
+        M [kg], C [N·s/m] and K [N/m].
+    scheme : SchemeConstants
+        The time step and the scheme's constants.
+    """
+    return scheme.a0 * mass + scheme.s * (stiffness + scheme.a1 * damping)
 
 
 def newmark_predictor(displacement, velocity, acceleration, scheme):

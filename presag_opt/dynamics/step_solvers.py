@@ -25,7 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from presag_opt.dynamics.assembly import newmark_update
+from presag_opt.dynamics.assembly import effective_stiffness, newmark_update
 from presag_opt.dynamics.laws import SchemeConstants
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.banded_solver import BandedSolver
@@ -114,8 +114,7 @@ class EquationOfMotion:
 
     def effective_matrix(self) -> sp.csc_matrix:
         """K_eff = a0 M + s (K + a1 C). [N/m]"""
-        c = self.c
-        return (c.a0 * self.mass + c.s * (self.stiffness + c.a1 * self.damping)).tocsc()
+        return effective_stiffness(self.mass, self.damping, self.stiffness, self.c).tocsc()
 
     def inertia(self, a: np.ndarray) -> np.ndarray:
         """M a; elementwise for a lumped (diagonal) mass matrix. [N]

@@ -73,6 +73,28 @@ class PhysicalParameters:
     nodal_force: np.ndarray
 
 
+def axial_energy(length, stiffness, unstretched_length, slack_allowed):
+    """Strain energy ½ k e² of axial elements, e = l − L0; where ``slack_allowed`` is 1 the element
+    carries tension only (e cut at 0). CasADi expressions, element by element: the one statement of
+    the law, for the potential's element function and the form-finding equations
+    (:mod:`presag_opt.static.form_finding_equations`). [J]
+
+    Parameters
+    ----------
+    length : casadi.SX
+        Chord length l of each element. [m]
+    stiffness : casadi.SX or DM
+        Axial stiffness k = EA/L0. [N/m]
+    unstretched_length : casadi.SX or DM
+        L0. [m]
+    slack_allowed : casadi.SX or DM
+        1 for a tension-only element (a dropper), 0 for one that takes compression too. [-]
+    """
+    stretch = length - unstretched_length
+    taut = (1 - slack_allowed) * stretch + slack_allowed * ca.fmax(stretch, 0)
+    return 0.5 * stiffness * taut**2
+
+
 def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX), and
     the axial energy alone (the line search needs only the energy).
@@ -84,14 +106,12 @@ def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """
     d = ca.SX.sym("d", 3)
     k, L0, slack = ca.SX.sym("k"), ca.SX.sym("L0"), ca.SX.sym("slack")
-    stretch = ca.norm_2(d) - L0
-    taut = (1 - slack) * stretch + slack * ca.fmax(stretch, 0)
-    energy = 0.5 * k * taut**2
+    energy = axial_energy(ca.norm_2(d), k, L0, slack)
     hess, grad = ca.hessian(energy, d)
     axial = ca.Function("axial_element", [d, k, L0, slack], [energy, grad, ca.vec(hess)],
                         ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy", "gradient", "hessian"])
-    axial_energy = ca.Function("axial_energy", [d, k, L0, slack], [energy],
-                               ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy"])
+    energy_only = ca.Function("axial_energy", [d, k, L0, slack], [energy],
+                              ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy"])
     r = ca.SX.sym("r", 9)
     ei, h1, h2 = ca.SX.sym("ei"), ca.SX.sym("h1"), ca.SX.sym("h2")
     curvature = (r[6:9] - r[3:6]) / h2 - (r[3:6] - r[0:3]) / h1
@@ -99,7 +119,7 @@ def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     hess, grad = ca.hessian(energy, r)
     bending = ca.Function("bending_triple", [r, ei, h1, h2], [energy, grad, ca.vec(hess)],
                           ["x", "bending_stiffness", "spacing_ab", "spacing_bc"], ["energy", "gradient", "hessian"])
-    return axial, bending, axial_energy
+    return axial, bending, energy_only
 
 
 _AXIAL, _BENDING, _AXIAL_ENERGY = _element_functions()

@@ -66,7 +66,8 @@ def enter_set(dof, set_dofs, set_force, tangent, position, count):
 def contact_set(b, step, count, shared, runs, scratch):
     """Each head's penalty contact with the contact wire: the two wire nodes under the head and the
     head enter the set (in contact or not), the force and tangent where the head penetrates the
-    wire's chord; each contact force [N] in ``scratch.contact_now``. Returns the set size.
+    wire's chord; each contact force [N] in ``scratch.contact_now``. Reads the displacements
+    ``scratch.u_of`` [m]. Returns the set size.
 
     Parameters
     ----------
@@ -76,12 +77,8 @@ def contact_set(b, step, count, shared, runs, scratch):
         Record (time step) being computed. [-]
     count : int
         Size of the set before. [-]
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    scratch : Scratch
-        Scratch arrays of the run being iterated (``u_of`` read [m]).
+    shared, runs, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     head_dof, penalty, cw_height = shared.head_dof, shared.contact_stiffness, runs.cw_height
     path_nodes, path_weights, path_compliance, head_height = (runs.path_nodes, runs.path_weights, runs.path_compliance,
@@ -114,7 +111,8 @@ def contact_set(b, step, count, shared, runs, scratch):
 @inline
 def friction_set(a1, count, scalars, shared, scratch):
     """Each suspension element's regularised friction, on its upper stage and, but for the lowest
-    (on the car body), the stage below. Returns the set size.
+    (on the car body), the stage below. Reads the velocities ``scratch.v_of`` [m/s]. Returns the set
+    size.
 
     Parameters
     ----------
@@ -122,12 +120,8 @@ def friction_set(a1, count, scalars, shared, scratch):
         Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
     count : int
         Size of the set before. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    scratch : Scratch
-        Scratch arrays of the run being iterated (``v_of`` read [m/s]).
+    scalars, shared, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     friction_dofs, friction_levels, friction_velocity = (shared.friction_dofs, shared.friction_levels,
                                                          scalars.friction_velocity)
@@ -151,8 +145,9 @@ def friction_set(a1, count, scalars, shared, scratch):
 
 @inline
 def dropper_set(b, a1, count, scalars, shared, runs, scratch):
-    """Each slack dropper's six DOFs, with the force and tangent that remove its axial part.
-    Returns (set size, recorded droppers slack).
+    """Each slack dropper's six DOFs, with the force and tangent that remove its axial part, from
+    its preload ``runs.dropper_preload`` [N], stretch ``scratch.stretch`` [m] and rate
+    ``scratch.rate`` [m/s]. Returns (set size, recorded droppers slack).
 
     Parameters
     ----------
@@ -162,14 +157,8 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
         Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
     count : int
         Size of the set before. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs (``dropper_preload`` read [N]).
-    scratch : Scratch
-        Scratch arrays of the run being iterated (``stretch`` [m] and ``rate`` [m/s] read).
+    scalars, shared, runs, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     dropper_dofs, dropper_gradient, dropper_stiffness = shared.dropper_dofs, shared.dropper_gradient, shared.dropper_stiffness
     dropper_preload, dropper_recorded, rayleigh_beta = runs.dropper_preload, shared.dropper_recorded, scalars.rayleigh_beta
@@ -210,14 +199,8 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
         Record (time step) being computed. [-]
     a1 : float
         Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights, static line).
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     count = contact_set(b, step, 0, shared, runs, scratch)
     count = friction_set(a1, count, scalars, shared, scratch)

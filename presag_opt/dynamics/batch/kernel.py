@@ -64,18 +64,39 @@ def band_matvec(band, rows, x, out, runs):
     runs : int
         Number of leading columns to multiply. [-]
     """
-    start, column, value = rows.start, rows.column, rows.value
     acc = np.empty(runs)
     for j in range(band.shape[0]):
         d = band[j, 0]
         for b in range(runs):
             acc[b] = d * x[j, b]
-        for e in range(start[j], start[j + 1]):
-            a, i = value[e], column[e]
-            for b in range(runs):
-                acc[b] += a * x[i, b]
+        add_row_product(j, rows, x, acc, runs)
         for b in range(runs):
             out[j, b] = acc[b]
+
+
+@inline
+def add_row_product(j, rows, x, acc, active):
+    """acc[:active] += Σ value · x[column, :active] over row j's off-diagonal entries of ``rows``, in
+    their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's C ṽ + K ũ).
+
+    Parameters
+    ----------
+    j : int
+        Row. [-]
+    rows : BandRows
+        The matrix's off-diagonal nonzeros by rows. [unit of the matrix]
+    x : ndarray, shape (n, n_runs)
+        The vectors, one per column. [unit of x]
+    acc : ndarray, shape (active,)
+        Row j's accumulator. [unit of the matrix · unit of x]
+    active : int
+        Number of leading columns. [-]
+    """
+    start, column, value = rows
+    for e in range(start[j], start[j + 1]):
+        entry, i = value[e], column[e]
+        for b in range(active):
+            acc[b] += entry * x[i, b]
 
 
 @kernel_function
@@ -88,18 +109,8 @@ def initialise(scalars, shared, runs, state, out, scratch):
 
     Parameters
     ----------
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     sh, sc = shared, scratch
     u, v, q, r = state.u, state.v, state.q, state.r
@@ -177,20 +188,8 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
         Whether the sweeps run in compiled C.
     c_sweeps : CSweeps
         Function pointers of the compiled sweeps (unused without ``compiled``).
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
@@ -219,12 +218,8 @@ def start_step(step, runs, out, work):
     ----------
     step : int
         Record (time step) being computed. [-]
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
+    runs, out, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status, scale, first_residual = runs.n_steps, out.status, work.scale, work.first_residual
     active = 0
@@ -247,20 +242,8 @@ def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
         Record (time step) being computed. [-]
     active : int
         Number of leading runs (columns) the sweep covers. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status, phi_count = runs.n_steps, out.status, work.phi_count
     for b in range(active):
@@ -279,10 +262,8 @@ def mark_finished_runs(step, active, runs, out):
         Record (time step) being computed. [-]
     active : int
         Number of leading runs swept in the step. [-]
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    out : Records
-        The records being written.
+    runs, out : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status = runs.n_steps, out.status
     for b in range(active):
@@ -298,20 +279,13 @@ def forward_sweep(scalars, shared, state, work, active):
 
     Parameters
     ----------
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    work : Work
-        Work arrays of the sweeps.
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    scalars, shared, state, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
                                                           shared.candidate_index)
-    k_start, k_column, k_value = shared.stiffness_rows
     v, q, r = state.v, state.q, state.r
     delta, g, linear, scale, first_residual = work.delta, work.g, work.linear, work.scale, work.first_residual
     rayleigh_alpha, s = scalars.rayleigh_alpha, scalars.scheme.s
@@ -321,10 +295,7 @@ def forward_sweep(scalars, shared, state, work, active):
         m = rayleigh_alpha * mass[j]
         for b in range(active):
             acc[b] = d * q[j, b] + m * v[j, b]
-        for e in range(k_start[j], k_start[j + 1]):
-            value, i = k_value[e], k_column[e]
-            for b in range(active):
-                acc[b] += value * q[i, b]
+        add_row_product(j, shared.stiffness_rows, q, acc, active)
         for b in range(active):
             linear[j, b] = acc[b]
         c = candidate_index[j]
@@ -375,16 +346,14 @@ def substitute_row(j, rows, pivot, x, acc, active):
 @kernel_function
 def backward_sweep(shared, work, active):
     """Sweep 2 of a step for the first ``active`` runs: the backward substitution Lᵀ δ_lin = y in
-    place, over the nonzeros of Lᵀ (``shared.upper_rows``).
+    place (``work.delta`` holds y = L⁻¹ g in, δ_lin out), over the nonzeros of Lᵀ (``shared.upper_rows``).
 
     Parameters
     ----------
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    work : Work
-        Work arrays of the sweeps (``delta`` holds L⁻¹ g in, δ_lin out).
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    shared, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     factor_band, delta = shared.factor_band, work.delta
     acc = np.empty(active)
@@ -403,20 +372,10 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
     ----------
     step : int
         Record (time step) being computed. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    scalars, shared, runs, state, out, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
     s, hht_alpha, rayleigh_beta = c.s, c.alpha, scalars.rayleigh_beta

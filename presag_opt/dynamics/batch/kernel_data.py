@@ -2,7 +2,12 @@
 
 The compiled kernel (:mod:`presag_opt.dynamics.batch.kernel`, :mod:`presag_opt.dynamics.batch.newton_step` and
 its parts) takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
-``shared.head_dof``, at no cost). :func:`~presag_opt.dynamics.batch.system.integrate_batch` fills
+``shared.head_dof``, at no cost). Each tuple is documented here once; the kernel's functions take
+them under one name each (``scalars``: :class:`Scalars`, the batch's constants; ``shared``:
+:class:`Shared`, what every run shares; ``runs``: :class:`Runs`, what differs between runs;
+``state``: :class:`RunState`; ``out``: :class:`Records`, the records being written; ``work``:
+:class:`Work`, the sweeps' per-step arrays; ``scratch``: :class:`Scratch`, the arrays of the run being
+iterated) and their docstrings refer here for them. :func:`~presag_opt.dynamics.batch.system.integrate_batch` fills
 them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch. A run's
 status in :class:`Records` is one of :data:`STATUS_RUNNING`, :data:`STATUS_OK`,
 :data:`STATUS_NOT_CONVERGED` and :data:`STATUS_NOT_FINITE`.
@@ -142,7 +147,7 @@ class RunState(NamedTuple):
 class Records(NamedTuple):
     """What the kernel records per run: ``contact_force`` [N] per (run, head, record),
     ``uplift_max`` [m], ``slack_max`` [-], ``status``, ``fail_step``, ``fail_residual`` [N] and
-    ``iterations`` [-] (the arrays of :class:`~presag_opt.dynamics.batch.system.BatchRecords`)."""
+    ``iterations`` [-]; what :func:`~presag_opt.dynamics.batch.system.integrate_batch` returns."""
 
     contact_force: np.ndarray
     uplift_max: np.ndarray

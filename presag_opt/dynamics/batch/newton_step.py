@@ -46,20 +46,8 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
         Run, the column of the batch arrays. [-]
     step : int
         Record (time step) being computed. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     pan = pantograph_predictor(b, scalars, shared, runs, state)

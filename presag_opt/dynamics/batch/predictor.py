@@ -52,14 +52,8 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     ----------
     b : int
         Run, the column of the batch arrays. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
+    scalars, shared, runs, state : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
     head_dof, damping, stiffness, inverse = (shared.head_dof, shared.pantograph_damping, shared.pantograph_stiffness,
@@ -100,18 +94,10 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
         Run, the column of the batch arrays. [-]
     step : int
         Record (time step) being computed. [-]
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     dropper_dofs, dropper_gradient, path_nodes = shared.dropper_dofs, shared.dropper_gradient, runs.path_nodes
     u_pred, v_pred, delta = state.u, state.v, work.delta
@@ -157,16 +143,10 @@ def residual_at_predictor(b, s, shared, state, work, scratch, pan):
         Run, the column of the batch arrays. [-]
     s : float
         1 + α of the HHT-α scheme. [-]
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     set_force, position, candidate_rows = scratch.set_force, scratch.position, shared.candidate_rows
     linear, g, rhs = work.linear, work.g, state.r

@@ -23,8 +23,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_FINITE, STATUS_OK
-from presag_opt.dynamics.batch.system import BatchRecords, BatchSystem, StaticLine, integrate_batch
+from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_FINITE, STATUS_OK, Records
+from presag_opt.dynamics.batch.system import BatchSystem, StaticLine, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.results import BatchResult, RunOutcome
 from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
@@ -216,7 +216,7 @@ def _plan(
 
 
 def _outcome(
-    state: EquilibriumState, point: OperatingPoint, plan: RunPlan, b: int, records: BatchRecords,
+    state: EquilibriumState, point: OperatingPoint, plan: RunPlan, b: int, records: Records,
     keep_histories: bool, wall_time: float,
 ) -> RunOutcome:
     """Run ``b`` of a batch's records as an outcome: its statistics, or why it stopped."""
@@ -234,7 +234,7 @@ def _outcome(
                 f"residual {records.fail_residual[b]:.3g} N after {settings.integrator.max_iterations} corrections")
         return RunOutcome(error=f"Newton iteration did not converge in step {step} (t = {step * dt:.6g} s): {what}",
                           **failed)
-    n_steps = int(records.n_steps[b])
+    n_steps = plan.step_count(dt)
     time = dt * np.arange(n_steps + 1)
     forces = records.contact_force[b, :, : n_steps + 1].T.copy()
     try:

@@ -38,22 +38,12 @@ def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scrat
         Record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
     drop : DropperStep
         Run ``b``'s droppers at the predictor.
+    scalars, shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
@@ -108,14 +98,8 @@ def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
         Record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
@@ -146,22 +130,12 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
         Record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
     drop : DropperStep
         Run ``b``'s droppers at the predictor (:func:`~presag_opt.dynamics.batch.predictor.predictor_state`).
+    scalars, shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop)
     return iterate_residual(b, step, n_phi, scalars, shared, runs, scratch)
@@ -183,10 +157,8 @@ def fail_run(b, step, largest, count, taken, out, scratch):
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     out.status[b] = STATUS_NOT_CONVERGED if np.isfinite(largest) else STATUS_NOT_FINITE
     out.fail_step[b] = step
@@ -208,18 +180,10 @@ def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan)
         Run, the column of the batch arrays. [-]
     count : int
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
+    scalars, shared, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     rhs, delta, linear, delta_lin = state.r, work.delta, work.linear, pan.delta_lin
@@ -244,16 +208,12 @@ def hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan):
         Run, the column of the batch arrays. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
     s : float
         1 + α of the HHT-α scheme. [-]
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, inverse = shared.column_of, shared.pantograph_inverse
     phi_dofs, phi, delta_lin = scratch.phi_dofs, scratch.phi, pan.delta_lin
@@ -282,14 +242,10 @@ def update_pantographs(b, taken, scalars, shared, state, pan):
         Run, the column of the batch arrays. [-]
     taken : int
         Newton corrections taken in this step. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
+    scalars, shared, state : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
     pantograph_mass, pantograph_r = shared.pantograph_mass, state.pantograph_r
@@ -320,16 +276,10 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
     slack : int
         Recorded droppers slack at the iterate. [-]
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     s : float
         1 + α of the HHT-α scheme. [-]
+    shared, state, out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     set_dofs, position, residual, contact_now = scratch.set_dofs, scratch.position, scratch.residual, scratch.contact_now
     rhs, pantograph_r = state.r, state.pantograph_r
@@ -365,20 +315,10 @@ def close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, 
         Entries of φ from the last correction (0 if none was taken). [-]
     slack : int
         Recorded droppers slack at the iterate. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    out : Records
-        The records being written.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
+    scalars, shared, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     if taken == 0:

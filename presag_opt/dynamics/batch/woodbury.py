@@ -75,14 +75,10 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
         Entries of φ from the last correction (0 before the first). [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch (``delta`` holds δ_lin).
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (its δ_lin).
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     set_dofs, set_force, phi_dofs, phi = scratch.set_dofs, scratch.set_force, scratch.phi_dofs, scratch.phi
@@ -108,7 +104,8 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
 def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate: y = (I + s T Z_SS)⁻¹ s T x_S with x_S of
     :func:`woodbury_target`; the new δ = δ_lin − s Z φ with φ = f + y/s, left in ``scratch.phi``
-    (its DOFs in ``scratch.phi_dofs``; the set's positions cleared). Returns the size of φ.
+    (its DOFs in ``scratch.phi_dofs``; the set's positions cleared); ``work.delta`` holds δ_lin.
+    Returns the size of φ.
 
     Parameters
     ----------
@@ -122,14 +119,10 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
         Entries of φ from the last correction (0 before the first). [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
