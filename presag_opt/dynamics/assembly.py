@@ -2,9 +2,9 @@
 
 The laws themselves are :mod:`presag_opt.dynamics.laws`; this module holds the arithmetic around
 them that each engine used to write for itself: the step's matrix K_eff, the Newmark predictor and
-update, the penetration of a pantograph head into the contact wire, and the contributions of the
-contact (on the wire's two nodes and the head) and of a slack dropper (on its six DOFs) as force and
-tangent on small fixed-size arrays. The functions are plain Python on numbers, or on NumPy arrays where
+update, the penetration of a pantograph head into the contact wire, and how each nonlinear force
+(contact, friction, slack dropper) adds its force and tangent to the few DOFs it acts on
+(:func:`force_contribution`, on small fixed-size arrays). The functions are plain Python on numbers, or on NumPy arrays where
 the operations broadcast, with no call to another function (K_eff, on matrices, is not compiled): the single-run engine
 (:mod:`presag_opt.dynamics.integrator`, :mod:`presag_opt.dynamics.simulate`) calls them as they
 are, and the batch kernel (:mod:`presag_opt.dynamics.batch`) compiles the same functions inline with
@@ -15,10 +15,12 @@ tests hold them to the last bit.
 Newmark kinematics (see :func:`~presag_opt.dynamics.laws.scheme_constants` for the constants)
     ũ = u_n + Δt v_n + Δt² (1/2 − β) a_n,  ṽ = v_n + Δt (1 − γ) a_n;  for δ = u_(n+1) − ũ:
     a_(n+1) = a0 δ,  v_(n+1) = ṽ + γ Δt a_(n+1).
-Contact
-    The penetration of the head into the chord between the two contact-wire nodes under it,
-    g = z_head − (w1 z1 + w2 z2); with the gradient (−w1, −w2, 1) of g over (node 1, node 2, head),
-    the contact force f_c on the three DOFs is f_c ∂g and its tangent k_t ∂g ∂gᵀ.
+Nonlinear forces
+    Each acts along a scalar measure g of a few DOFs: the penetration of the head into the chord
+    between the two contact-wire nodes under it, g = z_head − (w1 z1 + w2 z2), with gradient
+    (−w1, −w2, 1) over (node 1, node 2, head); a pantograph stage's velocity relative to the stage
+    below, (1, −1); a dropper's stretch, B = [−e, e] over its six DOFs. A force f along g with
+    tangent k gives f ∂g on the DOFs and k ∂g ∂gᵀ in the Newton matrix.
 
 References
 ----------
@@ -93,52 +95,30 @@ def head_penetration(head_height, head_displacement, weight_1, height_1, displac
     return head_height + head_displacement - wire
 
 
-def contact_contribution(force, tangent, weight_1, weight_2, dof_force, dof_tangent):
-    """The contact's force [N] and tangent [N/m] on (node 1, node 2, head), written into
-    ``dof_force`` (3) and ``dof_tangent`` (3 × 3).
+def force_contribution(force, tangent, gradient, dof_force, dof_tangent):
+    """A nonlinear force along a scalar measure g of a few DOFs (a penetration, a relative velocity, a
+    dropper's stretch): the force f ∂g [N] and the tangent k ∂g ∂gᵀ [N/m] on those DOFs, written into
+    ``dof_force`` and ``dof_tangent``. Every nonlinear force of the dynamic model enters both engines'
+    equations through this one function.
 
     Parameters
     ----------
     force : float
-        Contact force f_c (:func:`~presag_opt.dynamics.laws.contact_force`). [N]
+        The force along g, f (the contact force, a friction force, minus a slack dropper's axial
+        force). [N]
     tangent : float
-        Its derivative by the penetration (:func:`~presag_opt.dynamics.laws.contact_tangent`). [N/m]
-    weight_1, weight_2 : float
-        Shape-function weights of the two contact-wire nodes. [-]
-    dof_force : ndarray, shape (3,)
-        Receives f_c ∂g. [N]
-    dof_tangent : ndarray, shape (3, 3)
-        Receives k_t ∂g ∂gᵀ. [N/m]
+        Its Newton tangent k along g (∂f/∂g, or a1 ∂f/∂ġ for friction). [N/m]
+    gradient : tuple or ndarray of float
+        ∂g over the DOFs, one entry each: (−w1, −w2, 1) for a head's penetration of the wire between
+        two nodes, (1, −1) for a stage's velocity relative to the stage below, B = [−e, e] for a
+        dropper's stretch. [-]
+    dof_force : ndarray
+        Receives f ∂g (as many entries as ``gradient``). [N]
+    dof_tangent : ndarray
+        Receives k ∂g ∂gᵀ (square, as many rows as ``gradient``). [N/m]
     """
-    gradient = (-weight_1, -weight_2, 1.0)
-    for i in range(3):
+    for i in range(len(gradient)):
         dof_force[i] = gradient[i] * force
         row = tangent * gradient[i]
-        for j in range(3):
-            dof_tangent[i, j] = row * gradient[j]
-
-
-def slack_dropper_contribution(axial, stiffness, gradient, dof_force, dof_tangent):
-    """The force [N] and tangent [N/m] on a slack dropper's six DOFs that remove the axial part of
-    its linear contribution, written into ``dof_force`` (6) and ``dof_tangent`` (6 × 6).
-
-    Parameters
-    ----------
-    axial : float
-        The dropper's axial force N (:func:`~presag_opt.dynamics.laws.dropper_axial_force`), below
-        zero. [N]
-    stiffness : float
-        What removes the axial stiffness from the tangent: −k for ∂f/∂u, −k (1 + a1 β_R) for the
-        Newton tangent ∂f/∂u + a1 ∂f/∂v of a time step. [N/m]
-    gradient : ndarray, shape (6,)
-        The stretch's gradient B = [−e, e] over the dropper's six DOFs. [-]
-    dof_force : ndarray, shape (6,)
-        Receives −N B. [N]
-    dof_tangent : ndarray, shape (6, 6)
-        Receives ``stiffness`` B Bᵀ. [N/m]
-    """
-    for i in range(6):
-        dof_force[i] = -axial * gradient[i]
-        row = stiffness * gradient[i]
-        for j in range(6):
+        for j in range(len(gradient)):
             dof_tangent[i, j] = row * gradient[j]

@@ -56,7 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.assembly import contact_contribution, head_penetration
+from presag_opt.dynamics.assembly import force_contribution, head_penetration
 from presag_opt.dynamics.integrator import State, integrate
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.results import PantographHistory, SimulationResult
@@ -133,8 +133,8 @@ class _Interaction:
             nodes, weights, _, stiffness, penetration = self.contact(coupling, u, t)
             n_dofs = 2 + len(coupling.dofs)
             force, tangent, damping = np.zeros(n_dofs), np.zeros((n_dofs, n_dofs)), np.zeros((n_dofs, n_dofs))
-            contact_contribution(laws.contact_force(stiffness, penetration), laws.contact_tangent(stiffness, penetration),
-                                 weights[0], weights[1], force[:3], tangent[:3, :3])
+            force_contribution(laws.contact_force(stiffness, penetration), laws.contact_tangent(stiffness, penetration),
+                               (-weights[0], -weights[1], 1.0), force[:3], tangent[:3, :3])
             if coupling.pantograph.has_friction:
                 friction, slope = coupling.pantograph.friction_force(v[coupling.dofs], self.friction)
                 force[2:] += friction

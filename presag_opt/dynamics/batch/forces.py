@@ -26,8 +26,7 @@ dropper_axial_force = inline(laws.dropper_axial_force)
 dropper_slack = inline(laws.dropper_slack)
 dropper_tension = inline(laws.dropper_tension)
 head_penetration = inline(assembly.head_penetration)
-contact_contribution = inline(assembly.contact_contribution)
-slack_dropper_contribution = inline(assembly.slack_dropper_contribution)
+force_contribution = inline(assembly.force_contribution)
 
 
 @inline
@@ -60,6 +59,32 @@ def enter_set(dof, set_dofs, set_force, tangent, position, count):
         tangent[count, i] = 0.0
         tangent[i, count] = 0.0
     return count, count + 1
+
+
+@inline
+def add_piece(size, piece_dofs, piece_force, piece_tangent, set_force, tangent):
+    """Add one contribution (:func:`~presag_opt.dynamics.assembly.force_contribution`) to the set:
+    its forces [N] and tangent [N/m] at the set positions ``piece_dofs``, row by row.
+
+    Parameters
+    ----------
+    size : int
+        DOFs of the contribution. [-]
+    piece_dofs : ndarray of int
+        Their positions in the set. [-]
+    piece_force : ndarray
+        The contribution's forces. [N]
+    piece_tangent : ndarray
+        Its tangent. [N/m]
+    set_force : ndarray
+        The set's forces. [N]
+    tangent : ndarray
+        The set's dense tangent. [N/m]
+    """
+    for i in range(size):
+        set_force[piece_dofs[i]] += piece_force[i]
+        for j in range(size):
+            tangent[piece_dofs[i], piece_dofs[j]] += piece_tangent[i, j]
 
 
 @inline
@@ -100,11 +125,8 @@ def contact_set(b, step, count, shared, runs, scratch):
         k = contact_tangent(stiffness, penetration)
         contact_now[p] = force
         if k != 0.0:
-            contact_contribution(force, k, w1, w2, piece_force, piece_tangent)
-            for i in range(3):
-                set_force[q[i]] += piece_force[i]
-                for j in range(3):
-                    tangent[q[i], q[j]] += piece_tangent[i, j]
+            force_contribution(force, k, (-w1, -w2, 1.0), piece_force, piece_tangent)
+            add_piece(3, q, piece_force, piece_tangent, set_force, tangent)
     return count
 
 
@@ -127,19 +149,20 @@ def friction_set(a1, count, scalars, shared, scratch):
                                                          scalars.friction_velocity)
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
     v_of = scratch.v_of
+    q, piece_force, piece_tangent = scratch.piece_dofs, scratch.piece_force, scratch.piece_tangent
     for e in range(friction_levels.shape[0]):
         upper, lower = friction_dofs[e, 0], friction_dofs[e, 1]
         relative = v_of[upper] - (v_of[lower] if lower >= 0 else 0.0)
         force, slope = friction(friction_levels[e], relative, friction_velocity, a1)
-        qu, count = enter_set(upper, set_dofs, set_force, tangent, position, count)
-        set_force[qu] += force
-        tangent[qu, qu] += slope
+        q[0], count = enter_set(upper, set_dofs, set_force, tangent, position, count)
         if lower >= 0:
-            ql, count = enter_set(lower, set_dofs, set_force, tangent, position, count)
-            set_force[ql] -= force
-            tangent[ql, ql] += slope
-            tangent[qu, ql] -= slope
-            tangent[ql, qu] -= slope
+            q[1], count = enter_set(lower, set_dofs, set_force, tangent, position, count)
+            force_contribution(force, slope, (1.0, -1.0), piece_force, piece_tangent)
+            size = 2
+        else:
+            force_contribution(force, slope, (1.0,), piece_force, piece_tangent)
+            size = 1
+        add_piece(size, q, piece_force, piece_tangent, set_force, tangent)
     return count
 
 
@@ -173,12 +196,9 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
         if dropper_slack(axial):
             for c in range(6):
                 q[c], count = enter_set(dropper_dofs[d, c], set_dofs, set_force, tangent, position, count)
-            slack_dropper_contribution(axial, -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta), dropper_gradient[d],
-                                       piece_force, piece_tangent)
-            for i in range(6):
-                set_force[q[i]] += piece_force[i]
-                for j in range(6):
-                    tangent[q[i], q[j]] += piece_tangent[i, j]
+            force_contribution(-axial, -dropper_stiffness[d] * (1.0 + a1 * rayleigh_beta), dropper_gradient[d],
+                               piece_force, piece_tangent)
+            add_piece(6, q, piece_force, piece_tangent, set_force, tangent)
     return count, slack_recorded
 
 
