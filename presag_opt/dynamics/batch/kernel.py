@@ -69,15 +69,16 @@ def band_matvec(band, rows, x, out, runs):
         d = band[j, 0]
         for b in range(runs):
             acc[b] = d * x[j, b]
-        add_row_product(j, rows, x, acc, runs)
+        add_row_product(j, rows, x, acc, runs, 1.0)
         for b in range(runs):
             out[j, b] = acc[b]
 
 
 @inline
-def add_row_product(j, rows, x, acc, active):
-    """acc[:active] += Σ value · x[column, :active] over row j's off-diagonal entries of ``rows``, in
-    their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's C ṽ + K ũ).
+def add_row_product(j, rows, x, acc, active, sign):
+    """acc[:active] += Σ (sign · value) · x[column, :active] over row j's off-diagonal entries of
+    ``rows``, in their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's
+    C ṽ + K ũ with sign 1, the substitutions' rows with sign −1: acc + (−v) x rounds as acc − v x).
 
     Parameters
     ----------
@@ -91,10 +92,12 @@ def add_row_product(j, rows, x, acc, active):
         Row j's accumulator. [unit of the matrix · unit of x]
     active : int
         Number of leading columns. [-]
+    sign : float
+        1 or −1. [-]
     """
     start, column, value = rows
     for e in range(start[j], start[j + 1]):
-        entry, i = value[e], column[e]
+        entry, i = sign * value[e], column[e]
         for b in range(active):
             acc[b] += entry * x[i, b]
 
@@ -295,7 +298,7 @@ def forward_sweep(scalars, shared, state, work, active):
         m = rayleigh_alpha * mass[j]
         for b in range(active):
             acc[b] = d * q[j, b] + m * v[j, b]
-        add_row_product(j, shared.stiffness_rows, q, acc, active)
+        add_row_product(j, shared.stiffness_rows, q, acc, active, 1.0)
         for b in range(active):
             linear[j, b] = acc[b]
         c = candidate_index[j]
@@ -334,11 +337,7 @@ def substitute_row(j, rows, pivot, x, acc, active):
     active : int
         Number of leading columns. [-]
     """
-    start, column, value = rows
-    for e in range(start[j], start[j + 1]):
-        entry, i = value[e], column[e]
-        for b in range(active):
-            acc[b] -= entry * x[i, b]
+    add_row_product(j, rows, x, acc, active, -1.0)
     for b in range(active):
         x[j, b] = acc[b] / pivot
 
