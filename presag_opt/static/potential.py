@@ -73,6 +73,20 @@ class PhysicalParameters:
     nodal_force: np.ndarray
 
 
+def spring_energy(stretch, stiffness):
+    """Energy ½ k e² of linear springs (an axial element's strain, a ground spring, a pin across a
+    curve), element by element, on CasADi expressions or NumPy arrays alike. [J]
+
+    Parameters
+    ----------
+    stretch : casadi.SX or ndarray
+        The spring's extension e. [m]
+    stiffness : float, casadi.SX, DM or ndarray
+        Its stiffness k. [N/m]
+    """
+    return 0.5 * stiffness * stretch**2
+
+
 def axial_energy(length, stiffness, unstretched_length, slack_allowed):
     """Strain energy ½ k e² of axial elements, e = l − L0; where ``slack_allowed`` is 1 the element
     carries tension only (e cut at 0). CasADi expressions, element by element: the one statement of
@@ -92,7 +106,7 @@ def axial_energy(length, stiffness, unstretched_length, slack_allowed):
     """
     stretch = length - unstretched_length
     taut = (1 - slack_allowed) * stretch + slack_allowed * ca.fmax(stretch, 0)
-    return 0.5 * stiffness * taut**2
+    return spring_energy(taut, stiffness)
 
 
 def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
@@ -346,10 +360,10 @@ class PotentialFunctions:
         if self._bending is not None:
             total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
         if len(disc.spring_dofs):
-            total += float(0.5 * np.sum(params.spring_stiffness * (x[disc.spring_dofs] - params.spring_reference) ** 2))
+            total += float(np.sum(spring_energy(x[disc.spring_dofs] - params.spring_reference, params.spring_stiffness)))
         if len(disc.pin_nodes):
             offset = x.reshape(-1, 3)[disc.pin_nodes] - disc.design_positions[disc.pin_nodes]
-            total += float(0.5 * PIN_STIFFNESS * np.sum(np.sum(offset * disc.pin_normals, axis=1) ** 2))
+            total += float(np.sum(spring_energy(np.sum(offset * disc.pin_normals, axis=1), PIN_STIFFNESS)))
         return total
 
 
