@@ -96,10 +96,8 @@ def contact_set(b, step, count, shared, runs, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     count : int
         Size of the set before. [-]
     shared, runs, scratch : kernel_data tuples
@@ -213,10 +211,8 @@ def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     a1 : float
         Velocity coefficient of the scheme (∂v/∂u within the step; 0 at rest). [1/s]
     scalars, shared, runs, scratch : kernel_data tuples

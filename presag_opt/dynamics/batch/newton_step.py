@@ -42,10 +42,8 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     scalars, shared, runs, state, out, work, scratch : kernel_data tuples
         The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """

@@ -90,10 +90,8 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
     shared, runs, state, work, scratch : kernel_data tuples

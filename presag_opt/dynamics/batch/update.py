@@ -32,10 +32,8 @@ def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scrat
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
     pan : PantographStep
@@ -92,10 +90,8 @@ def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
     scalars, shared, runs, scratch : kernel_data tuples
@@ -124,10 +120,8 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction. [-]
     pan : PantographStep
@@ -147,10 +141,8 @@ def fail_run(b, step, largest, count, taken, out, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     largest : float
         Largest absolute residual at the last iterate. [N]
     count : int
@@ -268,10 +260,8 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     count : int
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
     slack : int
@@ -303,10 +293,8 @@ def close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, 
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     taken : int
         Newton corrections taken in this step. [-]
     count : int
