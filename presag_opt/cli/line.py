@@ -108,6 +108,7 @@ def design_command(args: argparse.Namespace) -> int:
             "spans": len(design.spans),
             "spans_flagged": {flag: [f"{s.section}/{s.from_mast}-{s.to_mast}" for s in spans]
                               for flag, spans in answer.flagged().items()},
+            "advice": answer.advice(),
             "droppers": len(design.droppers),
             "rules_failing": [{"section": r.section, "rule": r.rule, "status": r.status, "worst": r.worst}
                               for r in design.rules if not r.passed],
@@ -126,6 +127,8 @@ def design_command(args: argparse.Namespace) -> int:
             low, high = s.tolerance
             print(f"Span {s.section}/{s.from_mast}–{s.to_mast}: built {s.presag * 1e3:.1f} mm, {flag} "
                   f"{low * 1e3:.1f}–{high * 1e3:.1f} mm")
+    if answer.advice():
+        print(f"Advice: {answer.advice()}")
     for note in design.notes:
         print(f"Note: {note}")
     for r in design.rules:

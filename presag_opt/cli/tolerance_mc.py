@@ -15,6 +15,7 @@ import argparse
 import math
 
 from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, report_failures, table
+from presag_opt.cli.decision_options import workers_of
 from presag_opt.errors import ModelError
 
 MAX_ERROR_MM = 100.0
@@ -118,7 +119,7 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
     kind = "dynamic" if args.dynamic else "quasi-static"
     samples = _number(args, "samples", "", 1, MAX_SAMPLES, integer=True, default=DEFAULT_SAMPLES[kind])
     seed = _number(args, "seed", "", 0, 2**32 - 1, integer=True)
-    workers = _number(args, "workers", "", 1, 64, integer=True)
+    workers = workers_of(args)
     presag_mm = _number(args, "presag_mm", "mm", 0.0, 1000.0)
     if args.find_dropper_tolerance:
         if args.dynamic:

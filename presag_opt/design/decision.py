@@ -189,15 +189,19 @@ class Decision:
         """
         return presag_rel * self.reference_span * 1e3
 
-    def headline(self, span_lengths: Sequence[float] | None = None) -> str:
+    def headline(self, span_lengths: Sequence[float] | None = None, built: str | None = None) -> str:
         """One line: what to build, by which basis, and the status.
 
         Parameters
         ----------
         span_lengths : sequence of float, optional
             A line's span lengths: the pre-sag is then S_rel × span length, with its range in mm. [m]
+        built : str, optional
+            What is built, said by the caller instead (a line built span by span by its own rule).
         """
-        if span_lengths:
+        if built is not None:
+            size = built
+        elif span_lengths:
             lo, hi = min(span_lengths), max(span_lengths)
             size = (f"{self.presag_rel * 1e3:.2f} ‰ × span length ({self.presag_rel * lo * 1e3:.0f}–"
                     f"{self.presag_rel * hi * 1e3:.0f} mm on {lo:g}–{hi:g} m spans)" if hi > lo else

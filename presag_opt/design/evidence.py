@@ -2,17 +2,17 @@
 
 Each method's producer returns its record and nothing else builds it:
 
-============================  ==========================================================================
-record                        produced by
-============================  ==========================================================================
-:class:`DeltaERule`           :meth:`presag_opt.design.recommendation.Recommendation.evidence`
-:class:`QuasiStaticRobust`    :meth:`presag_opt.robust.study.RobustStudy.evidence`
-:class:`ValiditySweep`        :func:`presag_opt.studies.validity_evidence.validity_sweep`
-:class:`DynamicUpliftCheck`   :func:`presag_opt.pipeline.line.line_dynamic_check`
-:class:`DynamicRobust`        :meth:`presag_opt.robust.dynamic_study.DynamicRobustStudy.evidence`
-:class:`InstallationTolerance` :func:`crew_tolerance` (a setting) or
-                              :func:`presag_opt.robust.monte_carlo.installation_tolerance` (Monte Carlo)
-============================  ==========================================================================
+==============================  ==========================================================================
+record                          produced by
+==============================  ==========================================================================
+:class:`DeltaERule`             :meth:`presag_opt.design.recommendation.Recommendation.evidence`
+:class:`QuasiStaticRobust`      :meth:`presag_opt.robust.study.RobustStudy.evidence`
+:class:`ValiditySweep`          :func:`presag_opt.studies.validity_evidence.validity_sweep`
+:class:`DynamicUpliftCheck`     :func:`presag_opt.pipeline.line.line_dynamic_check`
+:class:`DynamicRobust`          :meth:`presag_opt.robust.dynamic_study.DynamicRobustStudy.evidence`
+:class:`InstallationTolerance`  :func:`crew_tolerance` (a setting) or
+                                :func:`presag_opt.robust.monte_carlo.installation_tolerance` (Monte Carlo)
+==============================  ==========================================================================
 
 :class:`Evidence` holds the records of one band (or line) with what every decision needs (wave speed,
 top speed, uplift limit, the span pre-sag is quoted on); :func:`presag_opt.design.decision.decide`

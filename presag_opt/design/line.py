@@ -19,7 +19,8 @@ the sections in parallel (:func:`presag_opt.processes.worker_pool`):
    tolerance interval on the built geometry (the check of the built pre-sag, whatever the rule).
 
 The decision for the whole line is made by :func:`presag_opt.pipeline.line.answer_line` from this
-design's records (:meth:`LineDesign.delta_e` and :meth:`LineDesign.quasi_static_robust`). Elasticity
+sizing's records (:meth:`~presag_opt.design.line_results.LineSizing.delta_e` and
+:meth:`~presag_opt.design.line_results.LineSizing.quasi_static_robust`). Elasticity
 values reported per span are those of the line as built, at the band-centre F_m.
 """
 

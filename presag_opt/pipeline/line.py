@@ -115,12 +115,32 @@ class LineAnswer:
         return out
 
     def headline(self) -> str:
-        """The decision's headline for the line (S_rel × span length) with the flagged spans counted."""
-        lengths = [s.length for s in self.design.spans]
-        checked = sum(1 for s in self.design.spans if s.tolerance is not None)
-        counts = "; ".join(f"{len(spans)} of {checked} sized spans {COUNTED[flag]}"
-                           for flag, spans in self.flagged().items() if spans)
-        return self.decision.headline(lengths) + (f" — {counts} (spans.csv)" if counts else "")
+        """The decision's headline for the line with the flagged spans counted: S_rel × span length under
+        rule ``proportional``; under a per-span rule, the range of the pre-sags built (each span its own)."""
+        spans = self.design.spans
+        lengths = [s.length for s in spans]
+        checked = sum(1 for s in spans if s.tolerance is not None)
+        counts = "; ".join(f"{len(flagged)} of {checked} sized spans {COUNTED[flag]}"
+                           for flag, flagged in self.flagged().items() if flagged)
+        built = None
+        if self.design.options.rule != "proportional":
+            rule, ends = {
+                "robust": ("its own quasi-static robust pre-sag", "the end spans at their section's mean"),
+                "per-span": ("its own Δe-rule pre-sag",
+                             f"the end spans at the line's S_rel {self.decision.presag_rel * 1e3:.2f} ‰"),
+            }[self.design.options.rule]
+            low, high = min(s.presag for s in spans), max(s.presag for s in spans)
+            built = f"each sized span {rule}, {low * 1e3:.1f}–{high * 1e3:.1f} mm as built ({ends})"
+        headline = self.decision.headline(lengths, built)
+        return headline + (f" — {counts} (spans.csv)" if counts else "")
+
+    def advice(self) -> str:
+        """What to do about flagged spans ("" when none is flagged or each span already has its own design)."""
+        if not any(self.flagged().values()) or self.design.options.rule == "robust":
+            return ""
+        return ("one pre-sag for the whole line leaves these spans near or beyond an end of their own tolerance; "
+                "rule robust (--rule robust) builds each sized span at its own quasi-static robust pre-sag, inside "
+                "its own tolerance")
 
     def lines(self, options: dict[str, str]) -> list[str]:
         """The decision as printed for the line (see :meth:`presag_opt.design.decision.Decision.lines`).

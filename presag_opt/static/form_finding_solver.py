@@ -7,6 +7,11 @@ to IPOPT (through CasADi's ``nlpsol``) as a feasibility problem (zero objective)
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import casadi as ca
@@ -66,6 +71,39 @@ EQUATION_TOLERANCE = 1e-6
 instead of iterating on it (the Newton relaxation that follows meets the force tolerance). [N]"""
 
 
+@contextmanager
+def interrupts_kept() -> Iterator[None]:
+    """Keep a Ctrl-C or SIGTERM that arrives during a CasADi call: CasADi turns it into a failed solve
+    (status ``NonIpopt_Exception_Thrown``), which would otherwise be restarted like any other failure.
+    Inside the block both signals are recorded and passed on to the handlers in force; at its end a
+    recorded one raises :class:`KeyboardInterrupt`. Outside the main thread (where no handler can be
+    set) the block changes nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+
+    def record(number: int, frame: object) -> None:
+        if previous[number] == signal.SIG_IGN:
+            return
+        received.append(number)
+        if callable(previous[number]):
+            previous[number](number, frame)  # e.g. raises KeyboardInterrupt, which CasADi swallows
+
+    try:
+        for number in previous:
+            signal.signal(number, record)
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+    if signal.SIGTERM in received and previous[signal.SIGTERM] == signal.SIG_DFL:
+        os.kill(os.getpid(), signal.SIGTERM)  # the default action, now that the default is back
+    if received:
+        raise KeyboardInterrupt
+
+
 def solve_form_finding(
     disc: Discretisation,
     params: PhysicalParameters,
@@ -113,7 +151,8 @@ def solve_form_finding(
     for options in (dict(IPOPT_OPTIONS), {**dict(IPOPT_OPTIONS), **dict(RESTART_OPTIONS)}):
         solver = ca.nlpsol("form_finding", "ipopt", problem,
                            {"print_time": False, "ipopt": {**options, "constr_viol_tol": tolerance}})
-        result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
+        with interrupts_kept():
+            result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
         stats = solver.stats()
         iterations += int(stats.get("iter_count", 0))
         if stats.get("success", False):

@@ -151,3 +151,8 @@ def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(presag, t
     assert float(spans[0]["presag_mm"]) == pytest.approx(30.0 * mean_rel, abs=0.11)
     page = (tmp_path / "out" / "index.html").read_text(encoding="utf-8")
     assert "own tolerance [mm] (margins)" in page and "— (end span)" in page
+    # the headline says what is built: each span its own, the range of the built pre-sags (not S_rel × l)
+    built = [float(r["presag_mm"]) for r in spans]
+    assert (f"each sized span its own quasi-static robust pre-sag, {min(built):.1f}–{max(built):.1f} mm as built "
+            "(the end spans at their section's mean)") in summary["headline"]
+    assert "× span length" not in summary["headline"] and summary["advice"] == ""

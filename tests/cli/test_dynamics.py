@@ -60,7 +60,6 @@ def test_json_and_plot_match_the_api_in_user_units(capsys, tmp_path, st98):
     assert printed["speed_kmh"] == pytest.approx(180.0, rel=1e-12)
     assert printed["aero_force_N"] == pytest.approx(0.00097 * 180.0**2, rel=1e-12)
     assert printed["analysed_spans"] == [5, 6]
-    assert plot.stat().st_size > 10_000
 
 
 @pytest.mark.parametrize(

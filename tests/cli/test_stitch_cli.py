@@ -32,7 +32,8 @@ def test_report_quick_says_the_system_is_stitched(tmp_path, capsys):
 def test_dynamic_robust_design_runs_on_the_stitched_system(capsys):
     """A small band (2 x 2 points) through the CLI and the API: the system line, a pre-sag inside its
     own tolerance, the uplift limit kept. On the full case-study band it gives 29.2 mm (docs/stitched.md)."""
-    assert main(["robust", "st_9.8_stitched_ideal", "--dynamic", "--grid-points", "2,2", "--speed", "50:70",
+    assert main(["robust", "st_9.8_stitched_ideal", "--dynamic", "--grid-points", "2,2", "--min-speed", "50",
+                 "--max-speed", "70",
                  "--json", "--quiet"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["system"].startswith("stitched:")

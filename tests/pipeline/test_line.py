@@ -121,3 +121,4 @@ def test_the_curve_and_the_bridge_spans_of_a_survey_are_flagged():
     curve, straight, bridge = (answered.design.spans[i - 1].tolerance for i in (3, 2, 6))
     assert curve[1] < straight[1] < bridge[1]
     assert "4 of 6 sized spans outside their own tolerance" in answered.headline()
+    assert "--rule robust" in answered.advice()  # the way out is named

@@ -66,3 +66,50 @@ def test_a_solve_that_does_not_finish_after_its_restart_raises_with_the_ipopt_st
     with pytest.raises(ConvergenceError, match=r"form-finding did not converge: IPOPT status 'Maximum_Iterations_"
                                                r"Exceeded' after 2 iterations \(a restart with the exact Hessian"):
         form_finding_solver.solve_form_finding(*problem)
+
+
+def test_an_interrupt_swallowed_during_a_solve_is_raised_after_it():
+    """CasADi turns a Ctrl-C inside IPOPT into a failed solve (``NonIpopt_Exception_Thrown``), which the
+    form-finding would restart; :func:`interrupts_kept` raises it once the call returns. The signal is
+    sent from inside the solve (a callback of the objective), so the test does not depend on timing."""
+    import signal
+
+    import casadi as ca
+
+    from presag_opt.static.form_finding_solver import interrupts_kept
+
+    class Interrupting(ca.Callback):
+        def __init__(self):
+            ca.Callback.__init__(self)
+            self.construct("interrupting", {"enable_fd": True})
+
+        def eval(self, arg):
+            signal.raise_signal(signal.SIGINT)
+            return [arg[0] ** 2]
+
+    f = Interrupting()
+    x = ca.MX.sym("x")
+    solver = ca.nlpsol("s", "ipopt", {"x": x, "f": f(x)}, {"print_time": False, "ipopt": {"print_level": 0}})
+    solver(x0=1.0)  # outside the block: swallowed, the solve just fails
+    assert solver.stats()["return_status"] != "Solve_Succeeded"
+    with pytest.raises(KeyboardInterrupt), interrupts_kept():
+        solver(x0=1.0)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+def test_an_ignored_signal_is_not_recorded_and_sigterm_reaches_its_handler():
+    import signal
+
+    from presag_opt.static.form_finding_solver import interrupts_kept
+
+    calls = []
+    previous = signal.signal(signal.SIGTERM, lambda number, frame: calls.append(number))
+    try:
+        with pytest.raises(KeyboardInterrupt), interrupts_kept():
+            signal.raise_signal(signal.SIGTERM)
+        assert calls == [signal.SIGTERM]
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        with interrupts_kept():
+            signal.raise_signal(signal.SIGTERM)  # ignored: nothing raised
+    finally:
+        signal.signal(signal.SIGTERM, previous)

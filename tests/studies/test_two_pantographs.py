@@ -143,11 +143,17 @@ def test_far_behind_the_pantographs_approach_the_single_one(small_study):
 @pytest.mark.slow
 def test_the_leading_pantograph_equals_the_single_one_with_the_trailing_one_behind(small_study):
     """15 spans, the second pantograph 120 m (two spans) behind, starting inside the section: the
-    leading one's σ is the single one's to 0.5 % (measured 0.05 %), the trailing one's far above it."""
+    leading one's σ is close to the single one's, the trailing one's far above it.
+
+    The leading pantograph is not untouched: the trailing one's waves run ahead at c − v (about 46 m/s
+    here) and reach it within 3 s, inside the analysed section. How much they change its σ depends on
+    the details of the static state at these coarse numerics (1 m, 4 ms): 0.05 % with the form-finding
+    before its along-track anchor changed, 2.0 % after (σ 27.88 → 28.44 N), while the trailing one's
+    rises by about 55 % in both. Hence 3 % for the leading one, and above 1.3 × for the trailing one."""
     single = run_in_process(_one_point(small_study, 15, None))
     pair = run_in_process(_one_point(small_study, 15, 120.0))
     one = float(single["sigma"].values.ravel()[0])
-    assert float(pair["sigma"].values.ravel()[0]) == pytest.approx(one, rel=0.005)
+    assert float(pair["sigma"].values.ravel()[0]) == pytest.approx(one, rel=0.03)
     assert float(pair["trailing_sigma"].values.ravel()[0]) > 1.3 * one
 
 
