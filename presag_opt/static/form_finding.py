@@ -2,7 +2,7 @@
 
 :func:`form_find` runs the passes (the form-finding equations solved by IPOPT,
 :mod:`presag_opt.static.form_finding_solver`, then a Newton relaxation of the full model,
-:mod:`presag_opt.static.newton`), checks the result and returns the
+:mod:`presag_opt.static.equilibrium_newton`), checks the result and returns the
 :class:`~presag_opt.static.equilibrium.EquilibriumState`, reading it from the cache of form-found
 states (:mod:`presag_opt.static.cache`) when one is set, with its solver statistics
 (:mod:`presag_opt.static.solver_statistics`). :func:`check_form_finding_inputs` refuses, before any
@@ -27,9 +27,9 @@ from presag_opt.static.discretisation import (
     StaticSettings,
 )
 from presag_opt.static.equilibrium import EquilibriumState, static_model
+from presag_opt.static.equilibrium_newton import force_tolerance, newton_equilibrium
 from presag_opt.static.form_finding_equations import target_height_sensitivity
 from presag_opt.static.form_finding_solver import solve_form_finding
-from presag_opt.static.newton import force_tolerance, newton_equilibrium
 from presag_opt.static.potential import PhysicalParameters
 from presag_opt.static.solver_statistics import FormFindingStatistics, record
 from presag_opt.system.catenary import Catenary
