@@ -3,7 +3,8 @@
 The static uplift force F_stat of the pantograph plus its aerodynamic uplift α_ae v² at train speed v
 is the mean contact force the quasi-static rules are evaluated at (:mod:`presag_opt.design`), the
 mean uplift force a simulated pantograph presses the wire with (:mod:`presag_opt.dynamics`) and the
-nominal force of a study's grid (:mod:`presag_opt.studies`). It sits below all of them.
+nominal force of a study's grid (:mod:`presag_opt.studies`). It sits below all of them. :func:`mean_force`
+is the bare formula; :func:`presag_opt.design.band.mean_contact_force` checks its inputs and then calls it.
 
 References
 ----------
@@ -13,7 +14,7 @@ Schick, Liu, Stichel, Railway Sciences (2025), doi:10.1108/RS-05-2025-0016, eq. 
 from __future__ import annotations
 
 
-def mean_contact_force(static_force, speed, aero_coefficient):
+def mean_force(static_force, speed, aero_coefficient):
     """Mean contact force F_m = F_stat + α_ae v² (numbers or arrays; no validation here). [N]
 
     Parameters

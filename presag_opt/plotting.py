@@ -19,7 +19,7 @@ from presag_opt.units import KMH
 if TYPE_CHECKING:
     from presag_opt.design import Recommendation
     from presag_opt.design.layouts import CurveEffect, MixedFinding
-    from presag_opt.dynamics.batch import BatchResult
+    from presag_opt.dynamics.results import BatchResult
     from presag_opt.dynamics.simulate import SimulationResult
     from presag_opt.robust import DynamicCheck, RobustDesign, RobustStudy
     from presag_opt.validation import SingleCurveError

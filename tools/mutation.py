@@ -32,7 +32,7 @@ GROUPS: dict[str, tuple[list[str], list[str]]] = {
         [
             "presag_opt/static/discretisation.py",
             "presag_opt/static/potential.py",
-            "presag_opt/static/newton.py",
+            "presag_opt/static/equilibrium_newton.py",
             "presag_opt/static/equilibrium.py",
             "presag_opt/static/form_finding.py",
             "presag_opt/static/linearised.py",

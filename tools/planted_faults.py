@@ -48,6 +48,15 @@ class Fault:
     what: str
     old: str
     new: str
+    later: tuple[str, str] | None = None
+    """The same fault in a later version whose text differs (``old``, ``new``), tried when ``old`` is absent."""
+
+    def replacement(self, text: str) -> tuple[str, str] | None:
+        """The (old, new) pair that occurs exactly once in ``text``, or None."""
+        for pair in ((self.old, self.new), self.later):
+            if pair is not None and text.count(pair[0]) == 1:
+                return pair
+        return None
 
 
 FAULTS = (
@@ -75,7 +84,8 @@ FAULTS = (
           "value=float(np.percentile(values, level))", "value=float(np.percentile(values, level - 5))"),
     Fault("decision-branch", "presag_opt/design/decision.py",
           "a branch of the decision: a quasi-static answer decides even where β_max is above the trusted limit",
-          "        if trusted and not issues:", "        if not issues:"),
+          "        if trusted and not issues:", "        if not issues:",
+          later=("    if validity.trusted and quasi:", "    if quasi:")),
     Fault("height-error-unit", "presag_opt/cli/tolerance_mc.py",
           "a unit conversion: the command line's --height-error in cm instead of mm",
           "contact_wire_height=height * 1e-3,", "contact_wire_height=height * 1e-2,"),
@@ -141,10 +151,11 @@ def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: P
     if fault is not None:
         target = copy / fault.path
         text = target.read_text(encoding="utf-8")
-        if text.count(fault.old) != 1:
+        pair = fault.replacement(text)
+        if pair is None:
             return {"fault": name, "version": version, "caught_by": "not applicable",
-                    "detail": f"{fault.path}: the text to replace occurs {text.count(fault.old)} times"}
-        target.write_text(text.replace(fault.old, fault.new), encoding="utf-8")
+                    "detail": f"{fault.path}: the text to replace does not occur exactly once"}
+        target.write_text(text.replace(*pair), encoding="utf-8")
     _install(venv, copy)
     cache = work / version / f"{name}-cache"
     shutil.rmtree(cache, ignore_errors=True)

@@ -62,7 +62,7 @@ def mean_contact_force(
         if not np.all(np.isfinite(values)) or np.any(values < 0.0):
             bad = values.ravel()[~(np.isfinite(values.ravel()) & (values.ravel() >= 0.0))][0]
             raise ModelError(f"{name} = {bad:g} {unit} is outside the valid range [0, ∞) {unit} (finite)")
-    return contact_force.mean_contact_force(static_force, speed, aero_coefficient)
+    return contact_force.mean_force(static_force, speed, aero_coefficient)
 
 
 @dataclass(frozen=True, kw_only=True)

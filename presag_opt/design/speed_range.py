@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from presag_opt.contact_force import mean_contact_force
+from presag_opt.contact_force import mean_force
 from presag_opt.design.validity_limit import PAPER_LIMIT, ValidityStatement, validity_statement
 from presag_opt.speed import doppler_factor, speed_ratio
 from presag_opt.system.components import Wire
@@ -173,4 +173,4 @@ def highest_static_force_static(support_elasticity: float, limit: float, aero_co
         Highest speed of the band. [m/s]
     """
     # F_m = F_stat + α_ae v² solved for F_stat at the largest F_m the limit allows
-    return limit / support_elasticity - mean_contact_force(0.0, speed_high, aero_coefficient)
+    return limit / support_elasticity - mean_force(0.0, speed_high, aero_coefficient)

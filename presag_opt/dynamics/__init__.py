@@ -20,16 +20,9 @@ Physics
     :mod:`~presag_opt.dynamics.pantograph` — lumped-mass pantographs and their model files.
 Single-run engine
     :mod:`~presag_opt.dynamics.integrator` — HHT-α / Newmark time stepping;
-    :mod:`~presag_opt.dynamics.newton` — its Newton corrections (Woodbury on a factorised K_eff, or
+    :mod:`~presag_opt.dynamics.step_solvers` — the solvers of its Newton corrections (Woodbury on a factorised K_eff, or
     full refactorisation).
 Batch engine (compiled)
-    :mod:`~presag_opt.dynamics.batch_system` — the shared arrays of a batch and its integration;
-    :mod:`~presag_opt.dynamics.kernel_data` — the kernel's arrays as named tuples;
-    :mod:`~presag_opt.dynamics.kernel` — the sweeps over all DOFs and the one driver loop;
-    :mod:`~presag_opt.dynamics.batch_newton` — each run's Newton iteration on its nonlinear DOFs, from
-    its parts: :mod:`~presag_opt.dynamics.batch_predictor` (the step's start),
-    :mod:`~presag_opt.dynamics.batch_forces` (contact, friction and dropper force sets),
-    :mod:`~presag_opt.dynamics.batch_woodbury` (the Woodbury correction) and
-    :mod:`~presag_opt.dynamics.batch_update` (the iterate and the step's end);
-    :mod:`~presag_opt.native.sweeps` (with ``native/sweeps.c``) — the same sweeps in compiled C.
+    :mod:`~presag_opt.dynamics.batch` — the batch engine's package (its shared arrays, the compiled
+    kernel and the parts of its Newton step).
 """

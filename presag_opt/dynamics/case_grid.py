@@ -6,7 +6,7 @@ so the runs of a grid can need several form-found states. :func:`plan_grid` chec
 without form-finding (a bad speed or force is refused before any work), :func:`form_find_states`
 form-finds once per element length, and :func:`simulate_grid` runs each state's points as one
 :func:`~presag_opt.dynamics.batch.simulate_many` batch and returns one
-:class:`~presag_opt.dynamics.batch.BatchResult` in the order of the plans.
+:class:`~presag_opt.dynamics.results.BatchResult` in the order of the plans.
 """
 
 from __future__ import annotations
@@ -14,8 +14,9 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 
-from presag_opt.dynamics.batch import BatchResult, simulate_many
+from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import SimulationCase
+from presag_opt.dynamics.results import BatchResult
 from presag_opt.dynamics.run_plan import RunPlan
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
 from presag_opt.errors import ModelError

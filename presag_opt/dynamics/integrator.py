@@ -43,8 +43,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from presag_opt.dynamics.assembly import newmark_predictor
 from presag_opt.dynamics.laws import scheme_constants
-from presag_opt.dynamics.newton import (
+from presag_opt.dynamics.step_solvers import (
     NO_FORCE,
     EquationOfMotion,
     FactorisedSolver,
@@ -295,13 +296,8 @@ def _predict(
     c = system.c
     forcing = np.asarray(system.external_force(t_next), dtype=float)
     rhs = c.s * forcing - c.alpha * force + c.alpha * internal if c.alpha else forcing
-    return StepTerms(
-        time=t_next,
-        u_pred=u + c.time_step * v + c.displacement_predictor * a,
-        v_pred=v + c.velocity_predictor * a,
-        forcing=forcing,
-        rhs=rhs,
-    )
+    u_pred, v_pred = newmark_predictor(u, v, a, c)
+    return StepTerms(time=t_next, u_pred=u_pred, v_pred=v_pred, forcing=forcing, rhs=rhs)
 
 
 def _solve_step(

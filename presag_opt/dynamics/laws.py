@@ -3,7 +3,7 @@
 Every engine uses these functions: the single-run path (:mod:`presag_opt.dynamics.simulate`,
 :mod:`presag_opt.dynamics.pantograph`, :mod:`presag_opt.dynamics.structure`,
 :mod:`presag_opt.dynamics.integrator`) calls them as plain Python, on numbers or on NumPy arrays;
-the batch kernel (:mod:`presag_opt.dynamics.batch_forces`) compiles the same functions with numba
+the batch kernel (:mod:`presag_opt.dynamics.batch.forces`) compiles the same functions with numba
 (inlined) and calls them on numbers. This module imports no numba, so the single-run path stays
 numba-free. The written order of every operation is the order the engines round in: a change here
 changes every engine, and nothing else defines these laws.
@@ -54,6 +54,7 @@ __all__ = [
     "dropper_slack",
     "dropper_tension",
     "friction",
+    "head_height_in_contact",
     "scheme_constants",
     "suspension_elements",
 ]
@@ -83,6 +84,24 @@ def contact_force(stiffness, penetration):
         Head height minus the height of the wire's chord at the contact point. [m]
     """
     return stiffness * penetration if penetration > 0.0 else 0.0
+
+
+def head_height_in_contact(chord_height, penalty_stiffness, element_compliance, force):
+    """Height of a head that presses the wire with the contact force ``force``: the chord's height
+    plus the penetration F (c + 1/k_c) that :func:`contact_force` turns into F (its inverse). [m]
+
+    Parameters
+    ----------
+    chord_height : float
+        Height of the wire element's chord at the contact point. [m]
+    penalty_stiffness : float
+        Penalty (contact) stiffness k_c. [N/m]
+    element_compliance : float
+        Point-load deflection per unit force of the wire element under the head, c. [m/N]
+    force : float
+        Contact force F, positive. [N]
+    """
+    return chord_height + element_compliance * force + force / penalty_stiffness
 
 
 def contact_tangent(stiffness, penetration):

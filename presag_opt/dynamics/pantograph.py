@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from presag_opt.dynamics import laws
+from presag_opt.dynamics.assembly import force_contribution
 from presag_opt.errors import ModelError
 from presag_opt.system.components import Provenance
 from presag_opt.system.loader import load_model_file, parse_section
@@ -193,11 +194,19 @@ class Pantograph:
         tangent : numpy.ndarray
             Derivative of ``force`` with respect to ``velocity``, shape (n_dofs, n_dofs). [N·s/m]
         """
-        incidence = self._incidence()
-        levels = np.array([s.friction for s in self.stages])
-        relative = incidence @ np.asarray(velocity, dtype=float)
-        element_force, element_slope = laws.friction(levels, relative, regularisation.velocity, 1.0)
-        return incidence.T @ element_force, incidence.T @ (element_slope[:, None] * incidence)
+        velocity = np.asarray(velocity, dtype=float)
+        force, tangent = np.zeros(self.n_dofs), np.zeros((self.n_dofs, self.n_dofs))
+        piece_force, piece_tangent = np.empty(2), np.empty((2, 2))
+        for stage, (upper, lower) in zip(self.stages, laws.suspension_elements(self.n_dofs)):
+            relative = velocity[upper] - (velocity[lower] if lower >= 0 else 0.0)
+            element_force, element_slope = laws.friction(stage.friction, relative, regularisation.velocity, 1.0)
+            dofs = (upper, lower) if lower >= 0 else (upper,)
+            force_contribution(element_force, element_slope, (1.0, -1.0)[: len(dofs)], piece_force, piece_tangent)
+            for i, row in enumerate(dofs):
+                force[row] += piece_force[i]
+                for j, column in enumerate(dofs):
+                    tangent[row, column] += piece_tangent[i, j]
+        return force, tangent
 
     def contact_period(self) -> float:
         """Natural period of the head mass on the contact spring, 2π·sqrt(m_head / k_contact). [s]"""

@@ -106,6 +106,27 @@ def run_summary(
     return out
 
 
+def analysed_supports(support_station: np.ndarray, section: tuple[float, float]) -> np.ndarray:
+    """The supports (masts) inside the analysed section, both ends included (1 nm of round-off
+    allowed), whose uplift a run reports.
+
+    Parameters
+    ----------
+    support_station : ndarray
+        Station of every support along the track. [m]
+    section : (float, float)
+        Start and end of the analysed section along the track. [m]
+
+    Returns
+    -------
+    ndarray of int
+        Indices into ``support_station``. [-]
+    """
+    start, end = section
+    return np.flatnonzero((support_station >= start - 1e-9) & (support_station <= end + 1e-9))
+
+
+
 @dataclass(frozen=True, kw_only=True)
 class PantographHistory:
     """Time histories and statistics of one pantograph.
@@ -222,9 +243,8 @@ class SimulationResult:
 
     @property
     def analysed_supports(self) -> np.ndarray:
-        """Indices of the masts inside the analysed section (both ends included)."""
-        start, end = self.analysed_section
-        return np.flatnonzero((self.support_station >= start - 1e-9) & (self.support_station <= end + 1e-9))
+        """Indices of the masts inside the analysed section (:func:`analysed_supports`)."""
+        return analysed_supports(self.support_station, self.analysed_section)
 
     @property
     def uplift_max(self) -> float:

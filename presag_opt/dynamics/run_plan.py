@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from presag_opt.dynamics import laws
 from presag_opt.dynamics.integrator import step_count
 from presag_opt.dynamics.numerics import resolution_warnings
 from presag_opt.dynamics.pantograph import Pantograph
@@ -98,8 +99,9 @@ def static_contact(
     paths = []
     for p, x in zip(plan.pantographs, plan.starts):
         nodes, weights, compliance = contact_path(state, x + plan.operation.speed * times)
-        wire = weights[0] @ (model.cw_height[nodes[0]] + u0[model.cw_z[nodes[0]]]) + compliance[0] * uplift
-        paths.append(ContactPath(nodes, weights, compliance, float(wire + uplift / p.contact.stiffness)))
+        chord = weights[0] @ (model.cw_height[nodes[0]] + u0[model.cw_z[nodes[0]]])
+        head = laws.head_height_in_contact(chord, p.contact.stiffness, compliance[0], uplift)
+        paths.append(ContactPath(nodes, weights, compliance, float(head)))
     return u0, paths
 
 

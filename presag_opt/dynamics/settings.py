@@ -16,7 +16,7 @@ from typing import Literal
 
 import numpy as np
 
-from presag_opt.contact_force import mean_contact_force
+from presag_opt.contact_force import mean_force
 from presag_opt.dynamics.integrator import IntegratorSettings
 from presag_opt.dynamics.numerics import numerics_for_speed
 from presag_opt.dynamics.pantograph import FrictionRegularisation
@@ -149,13 +149,13 @@ class OperatingPoint:
 
     @property
     def uplift_force(self) -> float:
-        """Mean uplift force F_stat + α_ae v² of each pantograph (:func:`~presag_opt.contact_force.mean_contact_force`). [N]"""
-        return mean_contact_force(self.static_force, self.speed, self.aero_coefficient)
+        """Mean uplift force F_stat + α_ae v² of each pantograph (:func:`~presag_opt.contact_force.mean_force`). [N]"""
+        return mean_force(self.static_force, self.speed, self.aero_coefficient)
 
     @property
     def aero_force(self) -> float:
         """Aerodynamic part α_ae v² of the mean uplift force. [N]"""
-        return mean_contact_force(0.0, self.speed, self.aero_coefficient)
+        return mean_force(0.0, self.speed, self.aero_coefficient)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -56,8 +56,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
+from presag_opt.dynamics.assembly import force_contribution, head_penetration
 from presag_opt.dynamics.integrator import State, integrate
-from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
 from presag_opt.dynamics.pantograph import FrictionRegularisation, Pantograph
 from presag_opt.dynamics.results import PantographHistory, SimulationResult
 from presag_opt.dynamics.run_plan import (
@@ -72,6 +72,7 @@ from presag_opt.dynamics.statistics import (
     contact_force_statistics,
     lowpass_filter,
 )
+from presag_opt.dynamics.step_solvers import NO_FORCE, NonlinearForce
 from presag_opt.dynamics.structure import StructuralModel, structural_model
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
@@ -119,9 +120,9 @@ class _Interaction:
         """
         step = int(round(t / self.time_step))
         nodes, weights, compliance = coupling.nodes[step], coupling.weights[step], coupling.compliance[step]
-        model = self.model
-        wire = weights @ (model.cw_height[nodes] + u[model.cw_z[nodes]])
-        penetration = coupling.head_height + u[coupling.dofs[0]] - wire
+        height, displacement = self.model.cw_height[nodes], u[self.model.cw_z[nodes]]
+        penetration = head_penetration(coupling.head_height, u[coupling.dofs[0]], weights[0], height[0],
+                                       displacement[0], weights[1], height[1], displacement[1])
         stiffness = laws.contact_stiffness(coupling.pantograph.contact.stiffness, compliance)
         return nodes, weights, compliance, stiffness, penetration
 
@@ -130,13 +131,10 @@ class _Interaction:
         parts = []
         for coupling in self.couplings:
             nodes, weights, _, stiffness, penetration = self.contact(coupling, u, t)
-            n_stages = len(coupling.dofs)
-            gradient = np.zeros(2 + n_stages)
-            gradient[:2] = -weights
-            gradient[2] = 1.0
-            force = laws.contact_force(stiffness, penetration) * gradient
-            tangent = laws.contact_tangent(stiffness, penetration) * np.outer(gradient, gradient)
-            damping = np.zeros_like(tangent)
+            n_dofs = 2 + len(coupling.dofs)
+            force, tangent, damping = np.zeros(n_dofs), np.zeros((n_dofs, n_dofs)), np.zeros((n_dofs, n_dofs))
+            force_contribution(laws.contact_force(stiffness, penetration), laws.contact_tangent(stiffness, penetration),
+                               (-weights[0], -weights[1], 1.0), force[:3], tangent[:3, :3])
             if coupling.pantograph.has_friction:
                 friction, slope = coupling.pantograph.friction_force(v[coupling.dofs], self.friction)
                 force[2:] += friction

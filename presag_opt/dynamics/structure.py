@@ -84,10 +84,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from presag_opt.dynamics import laws
-from presag_opt.dynamics.newton import NO_FORCE, NonlinearForce
+from presag_opt.dynamics.assembly import force_contribution
+from presag_opt.dynamics.step_solvers import NO_FORCE, NonlinearForce
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.static.linearised import TensionOnlyStructure
+from presag_opt.static.linearised import TensionOnlyStructure, dropper_directions
 from presag_opt.system.components import Damping
 from presag_opt.system.quantity import quantity, validate_fields
 
@@ -299,11 +300,13 @@ class StructuralModel:
         if not len(slack):
             return NO_FORCE
         d = self.droppers
-        b = d.gradient[slack]
-        block = _block_diagonal(-d.axial_stiffness[slack, None, None] * np.einsum("ni,nj->nij", b, b))
+        force, blocks = np.empty((len(slack), 6)), np.empty((len(slack), 6, 6))
+        for i, dropper in enumerate(slack):
+            force_contribution(-axial[dropper], -d.axial_stiffness[dropper], d.gradient[dropper], force[i], blocks[i])
+        block = _block_diagonal(blocks)
         return NonlinearForce(
             dofs=d.dofs[slack].ravel(),
-            force=-(axial[slack, None] * b).ravel(),
+            force=force.ravel(),
             stiffness=block,
             damping=self.rayleigh_beta * block,
         )
@@ -411,8 +414,7 @@ def _linearise_droppers(state: EquilibriumState, position_of: np.ndarray) -> Dro
     if np.any(dofs < 0):
         i = int(np.flatnonzero(np.any(dofs < 0, axis=1))[0])
         raise ModelError(f"dropper {i + 1} is attached to a fixed node; droppers must hang between free wire nodes")
-    chord = state.positions[b] - state.positions[a]
-    e = chord / np.linalg.norm(chord, axis=1)[:, None]
+    e = dropper_directions(state)
     preload = state.dropper_forces()
     if np.any(preload <= 0.0):
         i = int(np.flatnonzero(preload <= 0.0)[0])

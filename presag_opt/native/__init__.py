@@ -1,7 +1,7 @@
 """Compiled code: C built on the user's machine, and the numba twins that stand in for it.
 
 The lowest layer of the package above :mod:`presag_opt.errors`: nothing here imports the physics
-(the batch simulator's one driver loop, :func:`presag_opt.dynamics.kernel.advance`, takes the C
+(the batch simulator's one driver loop, :func:`presag_opt.dynamics.batch.kernel.advance`, takes the C
 sweeps of :mod:`~presag_opt.native.sweeps` as function pointers). Every C library gives the numbers of its
 fallback to the last bit; only the speed differs. Without a C compiler, or with
 compiling turned off in the runtime (:mod:`presag_opt.runtime`; ``PRESAG_NO_COMPILE=1``), the fallbacks run.

@@ -8,7 +8,7 @@ are several. :func:`banded_cholesky_solve` does the operations of ``banded.c`` i
 (the same numbers to the last bit); it is the ``"numba"`` back-end of
 :func:`presag_opt.native.banded.cholesky_solve` and the batch simulator's unit solves (its columns
 of K_eff⁻¹); :func:`backward_substitution` is its second half. (The batch simulator's time step
-substitutes over the factor's nonzero entries only, :mod:`presag_opt.dynamics.band_rows`.) Imported
+substitutes over the factor's nonzero entries only, :mod:`presag_opt.dynamics.batch.band_rows`.) Imported
 only where it is used (numba loads in about a second).
 """
 

@@ -6,7 +6,7 @@ other file changes (numba's documented limitation, numba/numba#1833). :func:`ker
 compiles with the cache, but under :class:`DependencyLocator`, whose source stamp is a hash of the
 contents of every file the function's compiled code comes from: its own, and, followed through the
 module globals it reads, the file of every numba function it can call, recursively (the laws of
-:mod:`presag_opt.dynamics.laws` included, which :mod:`presag_opt.dynamics.batch_forces` compiles
+:mod:`presag_opt.dynamics.laws` included, which :mod:`presag_opt.dynamics.batch.forces` compiles
 inline). An edit of any of them makes numba recompile the function on its next use and overwrite the
 stale entry; the cache stays where numba keeps it (``__pycache__`` beside the source, or
 ``NUMBA_CACHE_DIR``).

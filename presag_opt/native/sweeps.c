@@ -1,7 +1,7 @@
 /* The three sweeps over all DOFs of one time step of the batch simulator, in C.
 
    Compiled by presag_opt.native.sweeps and called from the numba kernel's one driver loop
-   (presag_opt.dynamics.kernel.advance) in place of its own sweeps. Each function does exactly
+   (presag_opt.dynamics.batch.kernel.advance) in place of its own sweeps. Each function does exactly
    the IEEE operations of its numba counterpart in kernel.py, in the same order, so both give the
    same numbers to the last bit (compiled with -ffp-contract=off and without fast-math). What differs
    is how the runs are held: the numba loops keep one accumulator per run in memory, whose
@@ -14,7 +14,7 @@
    the active runs are computed too (their runs have finished or do not exist) and never read as
    results. Band storage by rows: band[j, k] = A[j + k, j], `width` = bandwidth + 1; the diagonals
    are read from the bands, the off-diagonal entries from their nonzero lists by rows
-   (presag_opt.dynamics.band_rows: row j's entries are start[j] .. start[j + 1] - 1, with their
+   (presag_opt.dynamics.batch.band_rows: row j's entries are start[j] .. start[j + 1] - 1, with their
    columns and values), in the order a full-band sweep would add them. */
 
 #include <math.h>

@@ -1,7 +1,7 @@
 """The batch simulator's sweeps over all DOFs as compiled C (``sweeps.c``), called from numba.
 
-:func:`presag_opt.dynamics.kernel.advance` spends nearly all of a step in three sweeps over the
-catenary's DOFs, over the bands' nonzero entries (:mod:`presag_opt.dynamics.band_rows`). Written in
+:func:`presag_opt.dynamics.batch.kernel.advance` spends nearly all of a step in three sweeps over the
+catenary's DOFs, over the bands' nonzero entries (:mod:`presag_opt.dynamics.batch.band_rows`). Written in
 numba, each run keeps its accumulator in memory, and the load-add-store chain through it costs about
 15 processor cycles per entry however many runs share the step. ``sweeps.c`` does the same
 operations in the same order with the runs in blocks of eight whose accumulators stay in vector
@@ -14,7 +14,7 @@ The library is built once per machine by :func:`presag_opt.native.build` (``-O3
 loaded into the process with ctypes; :func:`sweeps` hands its functions to the kernel as function
 pointers, and :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call them with the
 arguments of the numba sweeps, so that the one driver loop,
-:func:`presag_opt.dynamics.kernel.advance`, takes either kind. Without a compiler, or with
+:func:`presag_opt.dynamics.batch.kernel.advance`, takes either kind. Without a compiler, or with
 compiling turned off in the runtime (``PRESAG_NO_COMPILE=1``), :func:`available` is False, :func:`sweeps` gives stand-ins of the same
 signatures, and the kernel takes the numba sweeps.
 
@@ -116,7 +116,7 @@ def _lanes(work, active):
 
 @inline
 def forward_sweep(c_sweeps, scalars, shared, state, work, active):
-    """:func:`presag_opt.dynamics.kernel.forward_sweep` in C.
+    """:func:`presag_opt.dynamics.batch.kernel.forward_sweep` in C.
 
     Parameters
     ----------
@@ -146,7 +146,7 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
 
 @inline
 def backward_sweep(c_sweeps, shared, work, active):
-    """:func:`presag_opt.dynamics.kernel.backward_sweep` in C: the backward substitution of
+    """:func:`presag_opt.dynamics.batch.kernel.backward_sweep` in C: the backward substitution of
     K_eff δ_lin = g.
 
     Parameters
@@ -169,7 +169,7 @@ def backward_sweep(c_sweeps, shared, work, active):
 
 @inline
 def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
-    """:func:`presag_opt.dynamics.kernel.update_sweep` in C.
+    """:func:`presag_opt.dynamics.batch.kernel.update_sweep` in C.
 
     Parameters
     ----------

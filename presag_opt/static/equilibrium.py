@@ -3,7 +3,7 @@
 An :class:`EquilibriumState` holds node coordinates and element parameters of one equilibrium of a
 :class:`StaticModel` (a discretisation and its potential). :meth:`EquilibriumState.solve` re-solves
 the equilibrium under extra loads (droppers free to go slack) by Newton's method
-(:mod:`presag_opt.static.newton`); :meth:`EquilibriumState.tangent_stiffness` gives the linear
+(:mod:`presag_opt.static.equilibrium_newton`); :meth:`EquilibriumState.tangent_stiffness` gives the linear
 stiffness at the state. What a state computes once is kept in its :class:`StateMemo`. States come
 from form-finding (:func:`presag_opt.static.form_finding.form_find`) or, for a lone wire, from
 :func:`lone_wire_state`.
@@ -26,7 +26,7 @@ from presag_opt.static.discretisation import (
     discretise,
     discretise_lone_wire,
 )
-from presag_opt.static.newton import NewtonTerms, newton_equilibrium, newton_solve
+from presag_opt.static.equilibrium_newton import NewtonTerms, newton_equilibrium, newton_solve
 from presag_opt.static.potential import PhysicalParameters, PotentialFunctions, build_potential
 from presag_opt.static.solver_statistics import FormFindingStatistics
 from presag_opt.system.catenary import Catenary

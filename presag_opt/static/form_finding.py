@@ -2,7 +2,7 @@
 
 :func:`form_find` runs the passes (the form-finding equations solved by IPOPT,
 :mod:`presag_opt.static.form_finding_solver`, then a Newton relaxation of the full model,
-:mod:`presag_opt.static.newton`), checks the result and returns the
+:mod:`presag_opt.static.equilibrium_newton`), checks the result and returns the
 :class:`~presag_opt.static.equilibrium.EquilibriumState`, reading it from the cache of form-found
 states (:mod:`presag_opt.static.cache`) when one is set, with its solver statistics
 (:mod:`presag_opt.static.solver_statistics`). :func:`check_form_finding_inputs` refuses, before any
@@ -27,9 +27,9 @@ from presag_opt.static.discretisation import (
     StaticSettings,
 )
 from presag_opt.static.equilibrium import EquilibriumState, static_model
+from presag_opt.static.equilibrium_newton import force_tolerance, newton_equilibrium
 from presag_opt.static.form_finding_equations import target_height_sensitivity
-from presag_opt.static.form_finding_solver import solve_form_finding
-from presag_opt.static.newton import force_tolerance, newton_equilibrium
+from presag_opt.static.form_finding_solver import interrupts_kept, solve_form_finding
 from presag_opt.static.potential import PhysicalParameters
 from presag_opt.static.solver_statistics import FormFindingStatistics, record
 from presag_opt.system.catenary import Catenary
@@ -77,12 +77,15 @@ def form_find(catenary: Catenary, settings: StaticSettings | None = None) -> Equ
     if not isinstance(settings, StaticSettings):
         raise ModelError(f"settings must be a StaticSettings, not {type(settings).__name__}")
     key = cache.state_key(catenary, settings) if cache.active_directory() is not None else None
-    if key is not None:
-        state = cache.state_from_arrays(static_model(catenary, settings), cache.load(key))
-        if state is not None:
-            record(state.form_finding)
-            return state
-    state = _form_find(catenary, settings)
+    # CasADi swallows a Ctrl-C that lands inside it (building the model's functions, the solver, the
+    # solve) and goes on: kept here and raised once the work returns (form_finding_solver.interrupts_kept)
+    with interrupts_kept():
+        if key is not None:
+            state = cache.state_from_arrays(static_model(catenary, settings), cache.load(key))
+            if state is not None:
+                record(state.form_finding)
+                return state
+        state = _form_find(catenary, settings)
     record(state.form_finding)
     if key is not None:
         cache.store(key, cache.state_arrays(state))

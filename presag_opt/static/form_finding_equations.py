@@ -18,17 +18,15 @@ import numpy as np
 import scipy.sparse.linalg as spla
 
 from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
-from presag_opt.static.potential import PhysicalParameters
+from presag_opt.static.potential import PhysicalParameters, axial_energy, spring_energy
 
 
 def _axial_energy(disc: Discretisation, x, elements: np.ndarray, k, L0, slack):
-    """Strain energy of the axial elements ``elements`` (slack=1: tension only)."""
+    """Strain energy of the axial elements ``elements`` (:func:`~presag_opt.static.potential.axial_energy`)."""
     ax = disc.axial
     X = ca.reshape(x, 3, disc.n_nodes).T
     d = X[ax.node_b[elements].tolist(), :] - X[ax.node_a[elements].tolist(), :]
-    stretch = ca.sqrt(ca.sum2(d**2)) - L0
-    taut = (1 - slack) * stretch + slack * ca.fmax(stretch, 0)
-    return ca.sum1(0.5 * k * taut**2)
+    return ca.sum1(axial_energy(ca.sqrt(ca.sum2(d**2)), k, L0, slack))
 
 
 def _bending_energy(disc: Discretisation, x, ei):
@@ -46,11 +44,11 @@ def _spring_energy(disc: Discretisation, x, ks, ref):
     """Energy of the ground springs and of the messenger-wire pins on curves."""
     energy = 0
     if len(disc.spring_dofs):
-        energy += ca.sum1(0.5 * ks * (x[disc.spring_dofs.tolist()] - ref) ** 2)
+        energy += ca.sum1(spring_energy(x[disc.spring_dofs.tolist()] - ref, ks))
     if len(disc.pin_nodes):
         X = ca.reshape(x, 3, disc.n_nodes).T
         offset = X[disc.pin_nodes.tolist(), :] - ca.DM(disc.design_positions[disc.pin_nodes])
-        energy += ca.sum1(0.5 * PIN_STIFFNESS * ca.sum2(offset * ca.DM(disc.pin_normals)) ** 2)
+        energy += ca.sum1(spring_energy(ca.sum2(offset * ca.DM(disc.pin_normals)), PIN_STIFFNESS))
     return energy
 
 

@@ -19,8 +19,8 @@ import numpy as np
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
+from presag_opt.static.equilibrium_newton import round_off_force
 from presag_opt.static.form_finding_equations import form_finding_system
-from presag_opt.static.newton import round_off_force
 from presag_opt.static.potential import PhysicalParameters
 
 
@@ -67,7 +67,7 @@ about as much as the first solve). Counted as a restart (:attr:`FormFindingSolut
 
 EQUATION_TOLERANCE = 1e-6
 """Largest violation of a form-finding equation accepted, unless the round-off of the nodal forces
-(:func:`~presag_opt.static.newton.round_off_force`) is larger: IPOPT then stops at the round-off
+(:func:`~presag_opt.static.equilibrium_newton.round_off_force`) is larger: IPOPT then stops at the round-off
 instead of iterating on it (the Newton relaxation that follows meets the force tolerance). [N]"""
 
 

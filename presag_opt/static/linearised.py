@@ -51,6 +51,21 @@ def dropper_axial_force(preload, stiffness, stretch, rate, rayleigh_beta):
     return axial
 
 
+def dropper_directions(state: EquilibriumState) -> np.ndarray:
+    """Unit vector e of every dropper, from node a to node b of its axial element, at
+    the equilibrium ``state``, shape (n_droppers, 3) [-]: the direction its stretch is measured along
+    (here and in the dynamic model's droppers, :mod:`presag_opt.dynamics.structure`).
+
+    Parameters
+    ----------
+    state : EquilibriumState
+        The equilibrium the droppers are linearised about.
+    """
+    axial, drops = state.discretisation.axial, state.discretisation.dropper_elements
+    chord = state.positions[axial.node_b[drops]] - state.positions[axial.node_a[drops]]
+    return chord / np.linalg.norm(chord, axis=1)[:, None]
+
+
 def dropper_slack(axial):
     """Whether a tension-only dropper is slack: its axial force below zero (its axial part removed).
 
@@ -103,8 +118,7 @@ class TensionOnlyStructure:
             free = state.model.functions.free_dofs
             drops = disc.dropper_elements
             ax = disc.axial
-            d = state.positions[ax.node_b[drops]] - state.positions[ax.node_a[drops]]
-            d /= np.linalg.norm(d, axis=1)[:, None]
+            d = dropper_directions(state)
             full = np.zeros((disc.n_dofs, len(drops)))
             cols = np.arange(len(drops))
             for c in range(3):

@@ -5,7 +5,7 @@ objects (an axial element and a bending triple, with their exact gradients and H
 CasADi's automatic differentiation); :func:`build_potential` maps them over all elements and
 scatters the results into global vectors and the fixed sparsity pattern of the tangent stiffness.
 Callers pass numpy arrays in and get numpy arrays (and SciPy sparse matrices) out. How the problem
-is solved lives elsewhere: Newton's method on this potential in :mod:`presag_opt.static.newton`, the
+is solved lives elsewhere: Newton's method on this potential in :mod:`presag_opt.static.equilibrium_newton`, the
 form-finding equations in :mod:`presag_opt.static.form_finding_equations` and their IPOPT solve in
 :mod:`presag_opt.static.form_finding_solver`.
 
@@ -73,6 +73,42 @@ class PhysicalParameters:
     nodal_force: np.ndarray
 
 
+def spring_energy(stretch, stiffness):
+    """Energy ½ k e² of linear springs (an axial element's strain, a ground spring, a pin across a
+    curve), element by element, on CasADi expressions or NumPy arrays alike. [J]
+
+    Parameters
+    ----------
+    stretch : casadi.SX or ndarray
+        The spring's extension e. [m]
+    stiffness : float, casadi.SX, DM or ndarray
+        Its stiffness k. [N/m]
+    """
+    return 0.5 * stiffness * stretch**2
+
+
+def axial_energy(length, stiffness, unstretched_length, slack_allowed):
+    """Strain energy ½ k e² of axial elements, e = l − L0; where ``slack_allowed`` is 1 the element
+    carries tension only (e cut at 0). CasADi expressions, element by element: the one statement of
+    the law, for the potential's element function and the form-finding equations
+    (:mod:`presag_opt.static.form_finding_equations`). [J]
+
+    Parameters
+    ----------
+    length : casadi.SX
+        Chord length l of each element. [m]
+    stiffness : casadi.SX or DM
+        Axial stiffness k = EA/L0. [N/m]
+    unstretched_length : casadi.SX or DM
+        L0. [m]
+    slack_allowed : casadi.SX or DM
+        1 for a tension-only element (a dropper), 0 for one that takes compression too. [-]
+    """
+    stretch = length - unstretched_length
+    taut = (1 - slack_allowed) * stretch + slack_allowed * ca.fmax(stretch, 0)
+    return spring_energy(taut, stiffness)
+
+
 def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """Energy, gradient and Hessian of one axial element and of one bending triple (CasADi SX), and
     the axial energy alone (the line search needs only the energy).
@@ -84,14 +120,12 @@ def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     """
     d = ca.SX.sym("d", 3)
     k, L0, slack = ca.SX.sym("k"), ca.SX.sym("L0"), ca.SX.sym("slack")
-    stretch = ca.norm_2(d) - L0
-    taut = (1 - slack) * stretch + slack * ca.fmax(stretch, 0)
-    energy = 0.5 * k * taut**2
+    energy = axial_energy(ca.norm_2(d), k, L0, slack)
     hess, grad = ca.hessian(energy, d)
     axial = ca.Function("axial_element", [d, k, L0, slack], [energy, grad, ca.vec(hess)],
                         ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy", "gradient", "hessian"])
-    axial_energy = ca.Function("axial_energy", [d, k, L0, slack], [energy],
-                               ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy"])
+    energy_only = ca.Function("axial_energy", [d, k, L0, slack], [energy],
+                              ["chord", "stiffness", "unstretched_length", "slack_allowed"], ["energy"])
     r = ca.SX.sym("r", 9)
     ei, h1, h2 = ca.SX.sym("ei"), ca.SX.sym("h1"), ca.SX.sym("h2")
     curvature = (r[6:9] - r[3:6]) / h2 - (r[3:6] - r[0:3]) / h1
@@ -99,7 +133,7 @@ def _element_functions() -> tuple[ca.Function, ca.Function, ca.Function]:
     hess, grad = ca.hessian(energy, r)
     bending = ca.Function("bending_triple", [r, ei, h1, h2], [energy, grad, ca.vec(hess)],
                           ["x", "bending_stiffness", "spacing_ab", "spacing_bc"], ["energy", "gradient", "hessian"])
-    return axial, bending, axial_energy
+    return axial, bending, energy_only
 
 
 _AXIAL, _BENDING, _AXIAL_ENERGY = _element_functions()
@@ -326,10 +360,10 @@ class PotentialFunctions:
         if self._bending is not None:
             total += 0.5 * float(x @ (self._bending_terms(params)[0] @ x))
         if len(disc.spring_dofs):
-            total += float(0.5 * np.sum(params.spring_stiffness * (x[disc.spring_dofs] - params.spring_reference) ** 2))
+            total += float(np.sum(spring_energy(x[disc.spring_dofs] - params.spring_reference, params.spring_stiffness)))
         if len(disc.pin_nodes):
             offset = x.reshape(-1, 3)[disc.pin_nodes] - disc.design_positions[disc.pin_nodes]
-            total += float(0.5 * PIN_STIFFNESS * np.sum(np.sum(offset * disc.pin_normals, axis=1) ** 2))
+            total += float(np.sum(spring_energy(np.sum(offset * disc.pin_normals, axis=1), PIN_STIFFNESS)))
         return total
 
 

@@ -6,7 +6,7 @@ the update's rank. :func:`woodbury_update` is that last step; its callers form t
 the form their update allows:
 
 - the single-run integrator's Newton correction
-  (:meth:`presag_opt.dynamics.newton.FactorisedSolver.correction`), A = K_eff, U = E, V = Eᵀ,
+  (:meth:`presag_opt.dynamics.step_solvers.FactorisedSolver.correction`), A = K_eff, U = E, V = Eᵀ,
   C = T the nonlinear forces' tangent (possibly singular): capacitance I + T Z_SS, right-hand side
   T x_S;
 - the tension-only droppers of the linearised structure
@@ -14,7 +14,7 @@ the form their update allows:
   C = −D_S (the slack droppers' stiffnesses, removed): the textbook capacitance C⁻¹ + V A⁻¹ U =
   G_SᵀK⁻¹G_S − D_S⁻¹, right-hand side G_Sᵀ x, and the update applied to the droppers' stretches.
 
-The batch kernel's correction (:mod:`presag_opt.dynamics.batch_woodbury`) is the first of these
+The batch kernel's correction (:mod:`presag_opt.dynamics.batch.woodbury`) is the first of these
 written for numba; its module notes say why it is not this function compiled.
 
 References

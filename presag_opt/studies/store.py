@@ -38,7 +38,7 @@ import numpy as np
 import xarray as xr
 
 from presag_opt.atomic_files import TEMPORARY_SUFFIX, storage_errors, write_atomic
-from presag_opt.contact_force import mean_contact_force
+from presag_opt.contact_force import mean_force
 from presag_opt.errors import ModelError
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.work import UnitResult, WorkUnit
@@ -287,7 +287,7 @@ def assemble(definition: StudyDefinition, results: list[UnitResult]) -> xr.Datas
     data["failure"] = (dims, failure.astype(str), {"long_name": "why the run failed (empty if it finished)"})
     data["rule_failure"] = (dims[:-1], rule_failure.astype(str),
                             {"long_name": "why the quasi-static rules could not be evaluated"})
-    nominal = mean_contact_force(np.asarray(grid.static_forces)[None, :], np.asarray(grid.speeds)[:, None],
+    nominal = mean_force(np.asarray(grid.static_forces)[None, :], np.asarray(grid.speeds)[:, None],
                                  grid.aero_coefficient)
     data["F_m_nominal"] = (("speed", "static_force"), nominal,
                            {"units": "N", "long_name": "nominal mean contact force F_stat + alpha_ae v^2"})

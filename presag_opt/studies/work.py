@@ -20,7 +20,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
-from presag_opt.contact_force import mean_contact_force
+from presag_opt.contact_force import mean_force
 from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.dynamics.batch import simulate_many
@@ -164,7 +164,7 @@ def nominal_mean_force(definition: StudyDefinition, speed: float, static_force: 
     static_force : float
         Static uplift force. [N]
     """
-    return mean_contact_force(static_force, speed, definition.grid.aero_coefficient)
+    return mean_force(static_force, speed, definition.grid.aero_coefficient)
 
 
 TASK_UNITS = 4

@@ -71,7 +71,11 @@ def test_a_killed_screening_resumes_from_its_kept_evaluations(presag_script, tmp
     assert resumed.returncode == 0, resumed.stderr
     again = json.loads(resumed.stdout)
     assert again["indices"] == data["indices"] and again["design"] == data["design"]
-    assert again["solver"] == {**data["solver"], "seconds": again["solver"]["seconds"]}  # the same form-findings
+    # as many form-findings; how many were solved and how many read from the form-finding cache depends on
+    # where the kill landed (a state the killed run stored is read back by the resumed one), and with it
+    # the iteration quantiles, which count the solved ones
+    assert again["solver"]["form_findings"] + again["solver"]["cached"] == (
+        data["solver"]["form_findings"] + data["solver"]["cached"])
     assert len(kept_evaluations(killed_cache)) == 9
     assert {path: path.stat().st_mtime_ns for path in kept} == kept  # read back, not computed again
     assert f"{len(kept)} of 9 evaluations read back from {killed_cache}" in resumed.stderr

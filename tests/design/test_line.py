@@ -15,8 +15,8 @@ from presag_opt.design.line import LineOptions, build_line, design_line, size_li
 from presag_opt.errors import ModelError
 from presag_opt.report.line_report import dropper_rows
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium_newton import newton_equilibrium
 from presag_opt.static.form_finding import form_find
-from presag_opt.static.newton import newton_equilibrium
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.survey import Survey

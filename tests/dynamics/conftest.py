@@ -30,8 +30,8 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
 
     import numpy as np
 
-    from presag_opt.dynamics import kernel_data as kd
-    from presag_opt.dynamics.band_rows import lower_rows, symmetric_rows, upper_rows
+    from presag_opt.dynamics.batch import kernel_data as kd
+    from presag_opt.dynamics.batch.band_rows import lower_rows, symmetric_rows, upper_rows
     from presag_opt.dynamics.laws import scheme_constants
 
     n, n_p = 6, 2
@@ -95,3 +95,46 @@ def _synthetic_batch(head_height: float = 2e-3, tolerance: float = 1e-10, max_it
 def synthetic_batch():
     """Factory of the one-run synthetic batch (:func:`_synthetic_batch`; keyword arguments passed on)."""
     return _synthetic_batch
+
+
+PLAIN_PARTS = ("forces", "predictor", "woodbury", "update", "newton_step")
+"""The batch kernel's parts that :func:`plain_parts` imports as plain Python."""
+
+
+@pytest.fixture(scope="session")
+def plain_parts():
+    """The parts of the batch kernel's Newton step (:mod:`presag_opt.dynamics.batch.newton_step` and
+    the modules it is made of) as plain Python: their modules imported a second time with numba's
+    jit off, so that every ``inline`` function is the function as written. The kernel compiles the
+    same source; the synthetic tests call the parts here in milliseconds instead of compiling each
+    one on its own with all it inlines (about 30 s of one core for the Newton step, on every run:
+    numba's cache does not cover a function called from Python). The compiled kernel itself is
+    checked end to end (``batch/test_simulation.py``: the batch against the single-run engine).
+    The compiled modules stay as they were, in ``sys.modules`` and on their package."""
+    import importlib
+    import sys
+    from types import SimpleNamespace
+
+    from numba.core import config
+
+    import presag_opt.dynamics.batch as package
+
+    names = [f"{package.__name__}.{part}" for part in PLAIN_PARTS]
+    saved_modules = {name: sys.modules.pop(name) for name in names if name in sys.modules}
+    saved_attributes = {part: getattr(package, part) for part in PLAIN_PARTS if hasattr(package, part)}
+    jit_was_off = config.DISABLE_JIT
+    config.DISABLE_JIT = True
+    try:
+        plain = {part: importlib.import_module(name) for part, name in zip(PLAIN_PARTS, names)}
+    finally:
+        config.DISABLE_JIT = jit_was_off
+        for name in names:
+            sys.modules.pop(name, None)
+        sys.modules.update(saved_modules)
+        for part in PLAIN_PARTS:
+            if part in saved_attributes:
+                setattr(package, part, saved_attributes[part])
+            elif hasattr(package, part):
+                delattr(package, part)
+    assert not hasattr(plain["newton_step"].newton_step, "py_func"), "numba compiled a plain part"
+    return SimpleNamespace(**plain)

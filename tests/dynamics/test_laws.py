@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presag_opt.dynamics import batch_forces, laws
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.batch import forces as batch_forces
 from presag_opt.dynamics.integrator import IntegratorSettings
 
 

@@ -1,7 +1,7 @@
 """The kernel's numba cache key: every source file a compiled function depends on.
 
 The end-to-end check (an edited law takes effect with a warm cache) is
-``tests/dynamics/test_kernel_cache.py``; here the key itself, on throwaway modules.
+``tests/dynamics/batch/test_kernel_cache.py``; here the key itself, on throwaway modules.
 """
 
 from __future__ import annotations

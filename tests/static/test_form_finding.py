@@ -10,8 +10,8 @@ import pytest
 from presag_opt.errors import ModelError
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.static.discretisation import CONTACT_WIRE, MESSENGER_WIRE
+from presag_opt.static.equilibrium_newton import force_tolerance
 from presag_opt.static.form_finding import check_form_finding_inputs, form_find
-from presag_opt.static.newton import force_tolerance
 from presag_opt.static.solver_statistics import recording
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary

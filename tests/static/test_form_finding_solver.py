@@ -90,11 +90,16 @@ def test_an_interrupt_swallowed_during_a_solve_is_raised_after_it():
     f = Interrupting()
     x = ca.MX.sym("x")
     solver = ca.nlpsol("s", "ipopt", {"x": x, "f": f(x)}, {"print_time": False, "ipopt": {"print_level": 0}})
-    solver(x0=1.0)  # outside the block: swallowed, the solve just fails
-    assert solver.stats()["return_status"] != "Solve_Succeeded"
-    with pytest.raises(KeyboardInterrupt), interrupts_kept():
-        solver(x0=1.0)
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+    # Python's own Ctrl-C handler, as in a command (a pytest-xdist worker runs with another one)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        solver(x0=1.0)  # outside the block: swallowed, the solve just fails
+        assert solver.stats()["return_status"] != "Solve_Succeeded"
+        with pytest.raises(KeyboardInterrupt), interrupts_kept():
+            solver(x0=1.0)
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_an_ignored_signal_is_not_recorded_and_sigterm_reaches_its_handler():

@@ -5,7 +5,7 @@ for one catenary, pantograph train and time step: the degrees of freedom in band
 Cuthill–McKee) order, the row-wise bands of K and of the Cholesky factor of
 K_eff = a0 M + s (K + a1 C), the pantographs' small matrices, friction elements and droppers.
 :func:`integrate_batch` adds what one batch of runs needs (start states, contact paths, the columns
-of K_eff⁻¹ at every DOF a nonlinear force can reach) and runs :mod:`presag_opt.dynamics.kernel`.
+of K_eff⁻¹ at every DOF a nonlinear force can reach) and runs :mod:`presag_opt.dynamics.batch.kernel`.
 The interface (operating points, outcomes, statistics) is :mod:`presag_opt.dynamics.batch`.
 """
 
@@ -14,12 +14,12 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
-from presag_opt.dynamics import kernel
-from presag_opt.dynamics.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
-from presag_opt.dynamics.kernel_data import (
+from presag_opt.dynamics.assembly import effective_stiffness
+from presag_opt.dynamics.batch import kernel
+from presag_opt.dynamics.batch.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
+from presag_opt.dynamics.batch.kernel_data import (
     Records,
     Runs,
     RunState,
@@ -30,6 +30,7 @@ from presag_opt.dynamics.kernel_data import (
 )
 from presag_opt.dynamics.laws import scheme_constants, suspension_elements
 from presag_opt.dynamics.pantograph import Pantograph
+from presag_opt.dynamics.results import analysed_supports
 from presag_opt.dynamics.run_plan import RunPlan, recorded_droppers, static_contact
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.dynamics.structure import StructuralModel
@@ -63,7 +64,7 @@ class BatchSystem:
         The kernel's numbers (scheme constants, Rayleigh coefficients, Newton and friction settings).
     fixed : dict
         The kernel's shared arrays that do not depend on the batch, by name (fields of
-        :class:`~presag_opt.dynamics.kernel_data.Shared`).
+        :class:`~presag_opt.dynamics.batch.kernel_data.Shared`).
     """
 
     model: StructuralModel
@@ -94,18 +95,15 @@ class BatchSystem:
         """
         integ = settings.integrator
         scheme = scheme_constants(integ)
-        s, a0, a1 = scheme.s, scheme.a0, scheme.a1
-        effective = (a0 * model.mass + s * (model.stiffness + a1 * model.damping)).tocsc()
+        effective = effective_stiffness(model.mass, model.damping, model.stiffness, scheme).tocsc()
         effective.sort_indices()
         ordering = BandedSolver.for_pattern(effective)
+        factor = ordering.factorise(effective.data)
+        if not factor.positive_definite:
+            raise ModelError("the effective matrix a0 M + s (K + a1 C) is not positive definite: check the model")
         order = ordering.permutation
         position = np.empty_like(order)
         position[order] = np.arange(len(order))
-        try:
-            factor = sla.cholesky_banded(_lower_band(effective, order, ordering.bandwidth), lower=True,
-                                         check_finite=False)
-        except np.linalg.LinAlgError:
-            raise ModelError("the effective matrix a0 M + s (K + a1 C) is not positive definite: check the model") from None
 
         n = model.n_dofs
         offsets = np.concatenate([[0], np.cumsum([p.n_dofs for p in pantographs])[:-1]]).astype(np.int64)
@@ -120,7 +118,7 @@ class BatchSystem:
                     friction_levels.append(stage.friction)
         d = model.droppers
         stiffness_band = np.ascontiguousarray(_lower_band(model.stiffness.tocsc(), order, ordering.bandwidth).T)
-        factor_band = np.ascontiguousarray(factor.T)
+        factor_band = np.ascontiguousarray(factor.cholesky.T)
         fixed = {
             # The kernel reads a row's band entries together: the bands are stored row by row.
             "stiffness_band": stiffness_band,
@@ -132,7 +130,7 @@ class BatchSystem:
             "pantograph_mass": mass.diagonal().copy(),
             "pantograph_damping": damping,
             "pantograph_stiffness": stiffness,
-            "pantograph_inverse": np.linalg.inv(a0 * mass + s * (stiffness + a1 * damping)),
+            "pantograph_inverse": np.linalg.inv(effective_stiffness(mass, damping, stiffness, scheme)),
             "head_dof": n + offsets,
             "contact_stiffness": np.array([p.contact.stiffness for p in pantographs]),
             "friction_dofs": np.array(friction_dofs, dtype=np.int64).reshape(-1, 2),
@@ -201,45 +199,11 @@ class StaticLine:
         return cls(state, state.positions[disc.cw_nodes, 2].copy(), state.dropper_forces())
 
 
-@dataclass(frozen=True)
-class BatchRecords:
-    """What the kernel recorded for each run of a batch (arrays indexed by run).
-
-    Attributes
-    ----------
-    n_steps : ndarray of int
-        Time steps of each run. [-]
-    contact_force : ndarray, shape (n_runs, n_pantographs, n_records)
-        Raw contact force at every record time. [N]
-    uplift_max : ndarray
-        Largest uplift at the analysed section's supports. [m]
-    slack_max : ndarray of int
-        Most recorded droppers slack at once. [-]
-    status : ndarray of int
-        :data:`~presag_opt.dynamics.batch_newton.STATUS_OK` or the reason the run stopped. [-]
-    fail_step : ndarray of int
-        Step at which a failed run stopped. [-]
-    fail_residual : ndarray
-        Its last Newton residual. [N]
-    iterations : ndarray of int
-        Newton corrections taken. [-]
-    """
-
-    n_steps: np.ndarray
-    contact_force: np.ndarray
-    uplift_max: np.ndarray
-    slack_max: np.ndarray
-    status: np.ndarray
-    fail_step: np.ndarray
-    fail_residual: np.ndarray
-    iterations: np.ndarray
-
-
 def integrate_batch(
     state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings,
     lines: list[StaticLine] | None = None,
-) -> BatchRecords:
-    """Integrate one batch of runs on a shared system.
+) -> Records:
+    """Integrate one batch of runs on a shared system: what the kernel recorded of each run.
 
     Parameters
     ----------
@@ -256,7 +220,8 @@ def integrate_batch(
 
     Returns
     -------
-    BatchRecords
+    Records
+        The kernel's records, indexed by run in the order of ``plans``.
     """
     model = system.model
     dt = settings.integrator.time_step
@@ -297,9 +262,7 @@ def integrate_batch(
     candidate_index[candidates] = np.arange(len(candidates))
     recorded = np.zeros(len(model.droppers), dtype=np.bool_)
     recorded[recorded_droppers(model, plans[0].analysed_section, settings)] = True
-    station = state.discretisation.mast_station
-    start, end = plans[0].analysed_section
-    supports = np.flatnonzero((station >= start - 1e-9) & (station <= end + 1e-9))
+    supports = analysed_supports(state.discretisation.mast_station, plans[0].analysed_section)
     support_dofs = system.position[model.support_z[supports]].astype(np.int64)
     support_row = np.zeros(n, dtype=np.bool_)
     support_row[support_dofs] = True
@@ -324,8 +287,7 @@ def integrate_batch(
     n_p = len(fixed["pantograph_mass"])
     run_state = RunState(u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
                          *(np.zeros((n_p, n_runs)) for _ in range(4)))
-    records = BatchRecords(
-        n_steps=n_steps,
+    out = Records(
         contact_force=np.zeros((n_runs, n_pan, longest + 1)),
         uplift_max=np.zeros(n_runs),
         slack_max=np.zeros(n_runs, dtype=np.int64),
@@ -334,7 +296,6 @@ def integrate_batch(
         fail_residual=np.zeros(n_runs),
         iterations=np.zeros(n_runs, dtype=np.int64),
     )
-    out = Records(*(getattr(records, name) for name in Records._fields))
     scratch = make_scratch(shared)
     work = make_work(shared, n_runs, lanes)
     c_sweeps = native_sweeps.sweeps()
@@ -344,7 +305,7 @@ def integrate_batch(
     for first in range(1, longest + 1, CHUNK_STEPS):
         kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, c_sweeps, system.scalars, shared, runs,
                        run_state, out, work, scratch)
-    return records
+    return out
 
 
 def _lower_band(matrix: sp.csc_matrix, order: np.ndarray, bandwidth: int) -> np.ndarray:

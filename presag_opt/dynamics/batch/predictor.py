@@ -1,13 +1,13 @@
 """The start of one batch run's Newton step: its pantographs, droppers and residual at the predictor (numba).
 
-Once the sweeps of :mod:`presag_opt.dynamics.kernel` have formed every run's linear solution δ_lin
-on the catenary, :func:`~presag_opt.dynamics.batch_newton.newton_step` starts each run's step here:
+Once the sweeps of :mod:`presag_opt.dynamics.batch.kernel` have formed every run's linear solution δ_lin
+on the catenary, :func:`~presag_opt.dynamics.batch.newton_step.newton_step` starts each run's step here:
 the pantographs' predictors, right-hand side and δ_lin (:func:`pantograph_predictor`, a
 :class:`PantographStep`), the droppers' stretch at the predictor and the stretch δ_lin adds, with
 the contact nodes and pantograph DOFs at the predictor (:func:`predictor_state`, a
 :class:`DropperStep`), and the integrator's force scale and largest residual there
 (:func:`residual_at_predictor`). The arrays are the named tuples of
-:mod:`presag_opt.dynamics.kernel_data`.
+:mod:`presag_opt.dynamics.batch.kernel_data`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from presag_opt.dynamics import assembly
 from presag_opt.native.jit import inline
+
+newmark_predictor = inline(assembly.newmark_predictor)
 
 
 class PantographStep(NamedTuple):
@@ -49,14 +52,8 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     ----------
     b : int
         Run, the column of the batch arrays. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
+    scalars, shared, runs, state : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
     head_dof, damping, stiffness, inverse = (shared.head_dof, shared.pantograph_damping, shared.pantograph_stiffness,
@@ -67,8 +64,7 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     u_pred, v_pred, rhs, linear, g, delta_lin = (np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p),
                                                  np.empty(n_p), np.empty(n_p))
     for i in range(n_p):
-        u_pred[i] = pantograph_u[i, b] + c.time_step * pv[i, b] + c.displacement_predictor * pa[i, b]
-        v_pred[i] = pv[i, b] + c.velocity_predictor * pa[i, b]
+        u_pred[i], v_pred[i] = newmark_predictor(pantograph_u[i, b], pv[i, b], pa[i, b], c)
     for i in range(n_p):
         rhs[i] = c.alpha * pantograph_r[i, b]
     for p in range(head_dof.shape[0]):
@@ -94,22 +90,12 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     dropper_dofs, dropper_gradient, path_nodes = shared.dropper_dofs, shared.dropper_gradient, runs.path_nodes
     u_pred, v_pred, delta = state.u, state.v, work.delta
@@ -155,16 +141,10 @@ def residual_at_predictor(b, s, shared, state, work, scratch, pan):
         Run, the column of the batch arrays. [-]
     s : float
         1 + α of the HHT-α scheme. [-]
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     set_force, position, candidate_rows = scratch.set_force, scratch.position, shared.candidate_rows
     linear, g, rhs = work.linear, work.g, state.r

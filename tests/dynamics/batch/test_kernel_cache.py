@@ -22,7 +22,8 @@ import numpy as np
 import pytest
 
 import presag_opt
-from presag_opt.dynamics import kernel, laws
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.batch import kernel
 from presag_opt.native import jit
 
 PACKAGE = Path(presag_opt.__file__).parent
@@ -30,7 +31,7 @@ PACKAGE = Path(presag_opt.__file__).parent
 RUN = """
 import dataclasses, json
 import presag_opt
-from presag_opt.dynamics import kernel
+from presag_opt.dynamics.batch import kernel
 from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.case import load_case
 from presag_opt.dynamics.settings import OperatingPoint
@@ -62,8 +63,8 @@ def _run(root: Path) -> dict:
 
 def test_the_kernel_depends_on_the_laws_and_every_kernel_file():
     files = {Path(f).name for f in jit.dependency_files(kernel.advance.py_func)}
-    assert {"kernel.py", "batch_newton.py", "batch_forces.py", "batch_woodbury.py", "batch_predictor.py",
-            "batch_update.py", "laws.py", "sweeps.py", "linearised.py"} <= files
+    assert {"kernel.py", "newton_step.py", "forces.py", "woodbury.py", "predictor.py",
+            "update.py", "laws.py", "sweeps.py", "linearised.py"} <= files
 
 
 @pytest.mark.e2e  # three fresh processes on a copy of the package, one of them compiling the kernel
@@ -89,7 +90,7 @@ def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path
 
 def test_the_batch_compiles_the_laws_module_itself():
     """The batch's friction is laws.friction compiled inline (the edit above reaches the batch)."""
-    from presag_opt.dynamics import batch_forces
+    from presag_opt.dynamics.batch import forces as batch_forces
 
     assert batch_forces.friction.py_func is laws.friction
     assert batch_forces.contact_force.py_func is laws.contact_force

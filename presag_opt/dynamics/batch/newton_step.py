@@ -1,19 +1,19 @@
 """Each batch run's Newton iteration on its few nonlinear DOFs (numba).
 
-:func:`newton_step` solves one run's step once the sweeps of :mod:`presag_opt.dynamics.kernel` have
+:func:`newton_step` solves one run's step once the sweeps of :mod:`presag_opt.dynamics.batch.kernel` have
 formed the linear solution δ_lin of all runs. Its parts, in order, each in the module that says what
 it holds:
 
 - the pantographs' predictor, the state and the residual at the predictor
-  (:mod:`presag_opt.dynamics.batch_predictor`);
+  (:mod:`presag_opt.dynamics.batch.predictor`);
 - the nonlinear forces of contact, pantograph friction and slack droppers, with the laws of
-  :mod:`presag_opt.dynamics.laws` compiled inline (:mod:`presag_opt.dynamics.batch_forces`);
+  :mod:`presag_opt.dynamics.laws` compiled inline (:mod:`presag_opt.dynamics.batch.forces`);
 - the Woodbury correction from the cached columns of K_eff⁻¹
-  (:mod:`presag_opt.dynamics.batch_woodbury`);
+  (:mod:`presag_opt.dynamics.batch.woodbury`);
 - the new iterate and its residual, the integrator's residual test, and the step's end
-  (:mod:`presag_opt.dynamics.batch_update`).
+  (:mod:`presag_opt.dynamics.batch.update`).
 
-The arrays are the named tuples of :mod:`presag_opt.dynamics.kernel_data`, whose ``STATUS_*``
+The arrays are the named tuples of :mod:`presag_opt.dynamics.batch.kernel_data`, whose ``STATUS_*``
 values a run's status takes (re-exported here).
 """
 
@@ -21,11 +21,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_forces import nonlinear_forces
-from presag_opt.dynamics.batch_predictor import pantograph_predictor, predictor_state, residual_at_predictor
-from presag_opt.dynamics.batch_update import fail_run, finish_step, update_iterate
-from presag_opt.dynamics.batch_woodbury import woodbury_correction
-from presag_opt.dynamics.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE, STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.forces import nonlinear_forces
+from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE, STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.predictor import pantograph_predictor, predictor_state, residual_at_predictor
+from presag_opt.dynamics.batch.update import close_run_step, fail_run, update_iterate
+from presag_opt.dynamics.batch.woodbury import woodbury_correction
 from presag_opt.native.jit import inline
 
 __all__ = ["STATUS_NOT_CONVERGED", "STATUS_NOT_FINITE", "STATUS_OK", "STATUS_RUNNING", "newton_step"]
@@ -42,24 +42,10 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     pan = pantograph_predictor(b, scalars, shared, runs, state)
@@ -77,4 +63,4 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
         taken += 1
         count, slack, largest = update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop)
     out.iterations[b] += taken
-    finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan)
+    close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan)

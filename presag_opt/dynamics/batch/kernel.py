@@ -1,14 +1,14 @@
 """Compiled time stepping of many runs on one catenary (numba), the batch index innermost.
 
 The sweeps over all DOFs live here; each run's Newton iteration on its nonlinear DOFs is
-:mod:`presag_opt.dynamics.batch_newton`'s (its parts: ``batch_predictor``, ``batch_forces``,
-``batch_woodbury``, ``batch_update``).
+:mod:`presag_opt.dynamics.batch.newton_step`'s (its parts: ``predictor``, ``forces``,
+``woodbury``, ``update``).
 
 This module holds the arithmetic of :func:`presag_opt.dynamics.batch.simulate_many`: banded
 products and solves on arrays of shape (n_dofs, n_runs), over the bands' nonzero entries
-(:mod:`presag_opt.dynamics.band_rows`), and the HHT-α step of every run. Setting up
+(:mod:`presag_opt.dynamics.batch.band_rows`), and the HHT-α step of every run. Setting up
 (matrices, orderings, contact paths, initial states) and the statistics are left to
-:mod:`presag_opt.dynamics.batch`.
+:mod:`presag_opt.dynamics.batch.system` and :mod:`presag_opt.dynamics.batch.simulation`.
 
 The step is the one of :mod:`presag_opt.dynamics.integrator` (HHT-α; Newmark for α = 0), written
 for δ = u_(n+1) − ũ, the displacement from the predictor. K_eff = a0 M + s (K + a1 C) is constant
@@ -34,9 +34,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_forces import nonlinear_forces
-from presag_opt.dynamics.batch_newton import newton_step
-from presag_opt.dynamics.kernel_data import STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.forces import nonlinear_forces
+from presag_opt.dynamics.batch.kernel_data import STATUS_OK, STATUS_RUNNING
+from presag_opt.dynamics.batch.newton_step import newton_step
+from presag_opt.dynamics.batch.predictor import newmark_predictor
+from presag_opt.dynamics.batch.update import newmark_update
 from presag_opt.native import sweeps as native
 from presag_opt.native.jit import inline, kernel_function
 
@@ -44,7 +46,7 @@ from presag_opt.native.jit import inline, kernel_function
 @kernel_function
 def band_matvec(band, rows, x, out, runs):
     """out[:, :runs] = A x[:, :runs]; A symmetric, its diagonal ``band[:, 0]`` and its off-diagonal
-    nonzeros ``rows`` (:func:`~presag_opt.dynamics.band_rows.symmetric_rows`).
+    nonzeros ``rows`` (:func:`~presag_opt.dynamics.batch.band_rows.symmetric_rows`).
 
     Row by row (each output row written once, its inputs read from a window of 2·bw + 1 rows that
     stays in cache), the runs innermost.
@@ -62,18 +64,42 @@ def band_matvec(band, rows, x, out, runs):
     runs : int
         Number of leading columns to multiply. [-]
     """
-    start, column, value = rows.start, rows.column, rows.value
     acc = np.empty(runs)
     for j in range(band.shape[0]):
         d = band[j, 0]
         for b in range(runs):
             acc[b] = d * x[j, b]
-        for e in range(start[j], start[j + 1]):
-            a, i = value[e], column[e]
-            for b in range(runs):
-                acc[b] += a * x[i, b]
+        add_row_product(j, rows, x, acc, runs, 1.0)
         for b in range(runs):
             out[j, b] = acc[b]
+
+
+@inline
+def add_row_product(j, rows, x, acc, active, sign):
+    """acc[:active] += Σ (sign · value) · x[column, :active] over row j's off-diagonal entries of
+    ``rows``, in their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's
+    C ṽ + K ũ with sign 1, the substitutions' rows with sign −1: acc + (−v) x rounds as acc − v x).
+
+    Parameters
+    ----------
+    j : int
+        Row. [-]
+    rows : BandRows
+        The matrix's off-diagonal nonzeros by rows. [unit of the matrix]
+    x : ndarray, shape (n, n_runs)
+        The vectors, one per column. [unit of x]
+    acc : ndarray, shape (active,)
+        Row j's accumulator. [unit of the matrix · unit of x]
+    active : int
+        Number of leading columns. [-]
+    sign : float
+        1 or −1. [-]
+    """
+    start, column, value = rows
+    for e in range(start[j], start[j + 1]):
+        entry, i = sign * value[e], column[e]
+        for b in range(active):
+            acc[b] += entry * x[i, b]
 
 
 @kernel_function
@@ -86,18 +112,8 @@ def initialise(scalars, shared, runs, state, out, scratch):
 
     Parameters
     ----------
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     sh, sc = shared, scratch
     u, v, q, r = state.u, state.v, state.q, state.r
@@ -159,7 +175,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
     (3) δ = δ_lin − s Z φ, the new state (u, a, v and r_(n+1) = (rhs + R − M a)/s) and from it the
     next step's predictors (:func:`update_sweep`). The step's force scale and residual at the
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
-    run by run on the others (:func:`~presag_opt.dynamics.batch_newton.newton_step`).
+    run by run on the others (:func:`~presag_opt.dynamics.batch.newton_step.newton_step`).
 
     The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
     function pointers ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments,
@@ -175,20 +191,8 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
         Whether the sweeps run in compiled C.
     c_sweeps : CSweeps
         Function pointers of the compiled sweeps (unused without ``compiled``).
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     for step in range(first_step, last_step + 1):
         active = start_step(step, runs, out, work)
@@ -205,7 +209,7 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
             native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
         else:
             update_sweep(step, scalars, shared, runs, state, out, work, active)
-        finish_step(step, active, runs, out)
+        mark_finished_runs(step, active, runs, out)
 
 
 @kernel_function
@@ -217,12 +221,8 @@ def start_step(step, runs, out, work):
     ----------
     step : int
         Record (time step) being computed. [-]
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
+    runs, out, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status, scale, first_residual = runs.n_steps, out.status, work.scale, work.first_residual
     active = 0
@@ -245,20 +245,8 @@ def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
         Record (time step) being computed. [-]
     active : int
         Number of leading runs (columns) the sweep covers. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status, phi_count = runs.n_steps, out.status, work.phi_count
     for b in range(active):
@@ -268,7 +256,7 @@ def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
 
 
 @kernel_function
-def finish_step(step, active, runs, out):
+def mark_finished_runs(step, active, runs, out):
     """Mark the runs whose last step this was as finished.
 
     Parameters
@@ -277,10 +265,8 @@ def finish_step(step, active, runs, out):
         Record (time step) being computed. [-]
     active : int
         Number of leading runs swept in the step. [-]
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    out : Records
-        The records being written.
+    runs, out : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     n_steps, status = runs.n_steps, out.status
     for b in range(active):
@@ -296,20 +282,13 @@ def forward_sweep(scalars, shared, state, work, active):
 
     Parameters
     ----------
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    work : Work
-        Work arrays of the sweeps.
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    scalars, shared, state, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     stiffness_band, factor_band, mass, candidate_index = (shared.stiffness_band, shared.factor_band, shared.mass,
                                                           shared.candidate_index)
-    k_start, k_column, k_value = shared.stiffness_rows
     v, q, r = state.v, state.q, state.r
     delta, g, linear, scale, first_residual = work.delta, work.g, work.linear, work.scale, work.first_residual
     rayleigh_alpha, s = scalars.rayleigh_alpha, scalars.scheme.s
@@ -319,10 +298,7 @@ def forward_sweep(scalars, shared, state, work, active):
         m = rayleigh_alpha * mass[j]
         for b in range(active):
             acc[b] = d * q[j, b] + m * v[j, b]
-        for e in range(k_start[j], k_start[j + 1]):
-            value, i = k_value[e], k_column[e]
-            for b in range(active):
-                acc[b] += value * q[i, b]
+        add_row_product(j, shared.stiffness_rows, q, acc, active, 1.0)
         for b in range(active):
             linear[j, b] = acc[b]
         c = candidate_index[j]
@@ -361,11 +337,7 @@ def substitute_row(j, rows, pivot, x, acc, active):
     active : int
         Number of leading columns. [-]
     """
-    start, column, value = rows
-    for e in range(start[j], start[j + 1]):
-        entry, i = value[e], column[e]
-        for b in range(active):
-            acc[b] -= entry * x[i, b]
+    add_row_product(j, rows, x, acc, active, -1.0)
     for b in range(active):
         x[j, b] = acc[b] / pivot
 
@@ -373,16 +345,14 @@ def substitute_row(j, rows, pivot, x, acc, active):
 @kernel_function
 def backward_sweep(shared, work, active):
     """Sweep 2 of a step for the first ``active`` runs: the backward substitution Lᵀ δ_lin = y in
-    place, over the nonzeros of Lᵀ (``shared.upper_rows``).
+    place (``work.delta`` holds y = L⁻¹ g in, δ_lin out), over the nonzeros of Lᵀ (``shared.upper_rows``).
 
     Parameters
     ----------
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    work : Work
-        Work arrays of the sweeps (``delta`` holds L⁻¹ g in, δ_lin out).
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    shared, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     factor_band, delta = shared.factor_band, work.delta
     acc = np.empty(active)
@@ -401,24 +371,13 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
     ----------
     step : int
         Record (time step) being computed. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        Arrays shared by every run (catenary, factor, pantographs).
-    runs : Runs
-        Per-run inputs (contact paths, step counts, head heights).
-    state : RunState
-        State arrays of the batch (catenary and pantographs).
-    out : Records
-        The records being written.
-    work : Work
-        Work arrays of the sweeps.
     active : int
         Number of leading runs (columns) the sweep covers. [-]
+    scalars, shared, runs, state, out, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
-    s, a0, dt, c_a, c_v, c_g = c.s, c.a0, c.time_step, c.displacement_predictor, c.velocity_predictor, c.velocity_update
-    hht_alpha, rayleigh_beta = c.alpha, scalars.rayleigh_beta
+    s, hht_alpha, rayleigh_beta = c.s, c.alpha, scalars.rayleigh_beta
     mass, columns, support_row, n_steps = shared.mass, shared.columns, shared.support_row, runs.n_steps
     u, v, q, r = state.u, state.v, state.q, state.r
     uplift_max, status = out.uplift_max, out.status
@@ -431,12 +390,10 @@ def update_sweep(step, scalars, shared, runs, state, out, work, active):
         m = mass[j]
         for b in range(active):
             dj = delta[j, b]
-            aj = a0 * dj
+            aj, vj = newmark_update(dj, v[j, b], c)
             uj = u[j, b] + dj
-            vj = v[j, b] + c_g * aj
             rj = (r[j, b] - m * aj) / s
-            up = uj + dt * vj + c_a * aj
-            vp = vj + c_v * aj
+            up, vp = newmark_predictor(uj, vj, aj, c)
             delta[j, b] = uj  # u_(n+1), kept for the support records below
             u[j, b] = up
             v[j, b] = vp

@@ -5,21 +5,18 @@ integrator's tolerance: the nonlinear forces are evaluated here in NumPy from th
 :mod:`presag_opt.dynamics.laws` (an independent evaluation of the residual), δ rebuilt from what
 the step leaves for sweep 3 and from the pantographs' new state.
 
-Slow tier: calling the step from Python compiles it on its own, with everything numba inlines into it
-(about 30 s of one core on every run, cold or warm: the kernel's cache does not cover it); the
-default tier checks the same step end to end (tests/dynamics/test_batch.py: the batch against the
-single-run engine, bit for bit where both take the same path).
+The step and its parts run as plain Python (the ``plain_parts`` fixture: the source the kernel
+compiles, with numba's jit off), in milliseconds; the compiled step is checked end to end
+(tests/dynamics/batch/test_simulation.py: the batch against the single-run engine).
 """
 
 from __future__ import annotations
 
 import numpy as np
-import pytest
 import scipy.linalg as sla
 
-from presag_opt.dynamics import batch_newton, kernel_data, laws
-
-pytestmark = pytest.mark.slow
+from presag_opt.dynamics import laws
+from presag_opt.dynamics.batch import kernel_data
 
 
 def _nonlinear(batch, u, v):
@@ -56,11 +53,11 @@ def _predictors(batch):
     return u, v, np.concatenate([batch.work.g[:, 0], g_p])
 
 
-def test_the_step_solves_its_nonlinear_equation(synthetic_batch):
+def test_the_step_solves_its_nonlinear_equation(plain_parts, synthetic_batch):
     batch = synthetic_batch(head_height=3e-3)
     u_pred, v_pred, g = _predictors(batch)
     delta_lin = batch.work.delta[:, 0].copy()
-    batch_newton.newton_step(0, 1, batch.scalars, batch.shared, batch.runs, batch.state, batch.out, batch.work,
+    plain_parts.newton_step.newton_step(0, 1, batch.scalars, batch.shared, batch.runs, batch.state, batch.out, batch.work,
                              batch.scratch)
     w, n = batch.work, batch.n
     assert batch.out.status[0] == kernel_data.STATUS_RUNNING and batch.out.iterations[0] >= 1
@@ -81,16 +78,16 @@ def test_the_step_solves_its_nonlinear_equation(synthetic_batch):
     assert abs(batch.out.contact_force[0, 0, 1] - contact) < 1e-9 and contact > 10.0
 
 
-def test_a_run_out_of_corrections_stops_with_its_reason(synthetic_batch):
+def test_a_run_out_of_corrections_stops_with_its_reason(plain_parts, synthetic_batch):
     batch = synthetic_batch(head_height=3e-3, max_iterations=0)
-    batch_newton.newton_step(0, 1, batch.scalars, batch.shared, batch.runs, batch.state, batch.out, batch.work,
+    plain_parts.newton_step.newton_step(0, 1, batch.scalars, batch.shared, batch.runs, batch.state, batch.out, batch.work,
                              batch.scratch)
-    assert batch.out.status[0] == batch_newton.STATUS_NOT_CONVERGED
+    assert batch.out.status[0] == plain_parts.newton_step.STATUS_NOT_CONVERGED
     assert batch.out.fail_step[0] == 1 and batch.out.fail_residual[0] > 0.0
     assert np.all(batch.scratch.position == -1)  # the set cleared for the next run
 
 
-def test_the_statuses_are_distinct():
-    statuses = {batch_newton.STATUS_RUNNING, batch_newton.STATUS_OK, batch_newton.STATUS_NOT_CONVERGED,
-                batch_newton.STATUS_NOT_FINITE}
-    assert len(statuses) == 4 and batch_newton.STATUS_OK == kernel_data.STATUS_OK == 0
+def test_the_statuses_are_distinct(plain_parts):
+    statuses = {plain_parts.newton_step.STATUS_RUNNING, plain_parts.newton_step.STATUS_OK, plain_parts.newton_step.STATUS_NOT_CONVERGED,
+                plain_parts.newton_step.STATUS_NOT_FINITE}
+    assert len(statuses) == 4 and plain_parts.newton_step.STATUS_OK == kernel_data.STATUS_OK == 0

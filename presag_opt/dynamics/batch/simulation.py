@@ -5,7 +5,7 @@ coefficient) under one :class:`~presag_opt.static.equilibrium.EquilibriumState` 
 :class:`RunOutcome` per point, in the order given. The runs share what does not depend on the
 operating point: the structural model, the banded factorisation of the effective matrix for the
 shared time step, and the columns of its inverse at every DOF a nonlinear force can act on. The
-time stepping is compiled (:mod:`presag_opt.dynamics.kernel`) and advances all runs of a batch
+time stepping is compiled (:mod:`presag_opt.dynamics.batch.kernel`) and advances all runs of a batch
 together, the batch index innermost.
 
 Each run is what :func:`~presag_opt.dynamics.simulate.simulate` computes for the same point, with
@@ -23,8 +23,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from presag_opt.dynamics import batch_newton
-from presag_opt.dynamics.batch_system import BatchRecords, BatchSystem, StaticLine, integrate_batch
+from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_FINITE, STATUS_OK, Records
+from presag_opt.dynamics.batch.system import BatchSystem, StaticLine, integrate_batch
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.results import BatchResult, RunOutcome
 from presag_opt.dynamics.run_plan import RunPlan, plan_run, route, run_warnings
@@ -105,7 +105,7 @@ def simulate_installed(
     :func:`~presag_opt.robust.realisation.installed_state`) share the design's structure: its
     stiffness, mass, damping, the factorised effective matrix, the influence columns and the dropper
     directions; each run brings its own line's static contact-wire heights and dropper preloads
-    (:class:`~presag_opt.dynamics.batch_system.StaticLine`). The runs of all lines that share a time
+    (:class:`~presag_opt.dynamics.batch.system.StaticLine`). The runs of all lines that share a time
     step fill the batches together, and the shared matrices are formed once. What the shared
     structure leaves out is the change of the tangent stiffness with the installation errors: a
     second-order effect for errors of millimetres (the tests bound it).
@@ -216,7 +216,7 @@ def _plan(
 
 
 def _outcome(
-    state: EquilibriumState, point: OperatingPoint, plan: RunPlan, b: int, records: BatchRecords,
+    state: EquilibriumState, point: OperatingPoint, plan: RunPlan, b: int, records: Records,
     keep_histories: bool, wall_time: float,
 ) -> RunOutcome:
     """Run ``b`` of a batch's records as an outcome: its statistics, or why it stopped."""
@@ -228,13 +228,13 @@ def _outcome(
                   wall_time=wall_time, time_step=dt, warnings=run_warnings(state, plan),
                   offsets=tuple(float(x) for x in plan.operation.offsets))
     failed = dict(statistics=(), uplift_max=float("nan"), slack_droppers_max=0, **common)
-    if records.status[b] != batch_newton.STATUS_OK:
+    if records.status[b] != STATUS_OK:
         step = int(records.fail_step[b])
-        what = ("a non-finite residual" if records.status[b] == batch_newton.STATUS_NOT_FINITE else
+        what = ("a non-finite residual" if records.status[b] == STATUS_NOT_FINITE else
                 f"residual {records.fail_residual[b]:.3g} N after {settings.integrator.max_iterations} corrections")
         return RunOutcome(error=f"Newton iteration did not converge in step {step} (t = {step * dt:.6g} s): {what}",
                           **failed)
-    n_steps = int(records.n_steps[b])
+    n_steps = plan.step_count(dt)
     time = dt * np.arange(n_steps + 1)
     forces = records.contact_force[b, :, : n_steps + 1].T.copy()
     try:

@@ -1,8 +1,13 @@
 """The arrays of the batch kernel, by name: what its compiled functions read and write.
 
-The compiled kernel (:mod:`presag_opt.dynamics.kernel`, :mod:`presag_opt.dynamics.batch_newton` and
+The compiled kernel (:mod:`presag_opt.dynamics.batch.kernel`, :mod:`presag_opt.dynamics.batch.newton_step` and
 its parts) takes these named tuples, which numba passes in nopython mode like plain tuples (a field is read as
-``shared.head_dof``, at no cost). :func:`~presag_opt.dynamics.batch_system.integrate_batch` fills
+``shared.head_dof``, at no cost). Each tuple is documented here once; the kernel's functions take
+them under one name each (``scalars``: :class:`Scalars`, the batch's constants; ``shared``:
+:class:`Shared`, what every run shares; ``runs``: :class:`Runs`, what differs between runs;
+``state``: :class:`RunState`; ``out``: :class:`Records`, the records being written; ``work``:
+:class:`Work`, the sweeps' per-step arrays; ``scratch``: :class:`Scratch`, the arrays of the run being
+iterated) and their docstrings refer here for them. :func:`~presag_opt.dynamics.batch.system.integrate_batch` fills
 them; :func:`make_work` and :func:`make_scratch` allocate the working arrays of one batch. A run's
 status in :class:`Records` is one of :data:`STATUS_RUNNING`, :data:`STATUS_OK`,
 :data:`STATUS_NOT_CONVERGED` and :data:`STATUS_NOT_FINITE`.
@@ -19,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from presag_opt.dynamics.band_rows import BandRows
+from presag_opt.dynamics.batch.band_rows import BandRows
 from presag_opt.dynamics.laws import SchemeConstants
 
 STATUS_RUNNING = -1
@@ -30,6 +35,8 @@ STATUS_NOT_CONVERGED = 1
 """``Records.status`` of a run whose Newton iteration did not converge in the corrections allowed. [-]"""
 STATUS_NOT_FINITE = 2
 """``Records.status`` of a run whose residual became infinite or NaN. [-]"""
+PIECE_SIZE = 6
+"""Most DOFs one force contribution acts on (a dropper's six; a contact's three). [-]"""
 
 
 class Scalars(NamedTuple):
@@ -64,7 +71,7 @@ class Shared(NamedTuple):
 
     Bands are stored by rows, band[j, k] = A[j + k, j]: ``stiffness_band`` K [N/m] and
     ``factor_band`` the Cholesky factor L of K_eff [sqrt(N/m)]; the sweeps read their nonzero
-    off-diagonal entries by rows (:mod:`presag_opt.dynamics.band_rows`): ``stiffness_rows`` of K,
+    off-diagonal entries by rows (:mod:`presag_opt.dynamics.batch.band_rows`): ``stiffness_rows`` of K,
     ``lower_rows`` of L and ``upper_rows`` of Lᵀ, and the diagonals from the bands; ``mass`` the lumped masses [kg];
     ``pantograph_mass``, ``_damping``, ``_stiffness`` and ``_inverse`` the pantographs' M [kg],
     C [N·s/m], K [N/m] and K_eff⁻¹ [m/N]; ``column_of`` the row of ``columns`` (K_eff⁻¹ e_j [m/N])
@@ -140,7 +147,7 @@ class RunState(NamedTuple):
 class Records(NamedTuple):
     """What the kernel records per run: ``contact_force`` [N] per (run, head, record),
     ``uplift_max`` [m], ``slack_max`` [-], ``status``, ``fail_step``, ``fail_residual`` [N] and
-    ``iterations`` [-] (the arrays of :class:`~presag_opt.dynamics.batch_system.BatchRecords`)."""
+    ``iterations`` [-]; what :func:`~presag_opt.dynamics.batch.system.integrate_batch` returns."""
 
     contact_force: np.ndarray
     uplift_max: np.ndarray
@@ -171,7 +178,8 @@ class Work(NamedTuple):
 class Scratch(NamedTuple):
     """Scratch arrays of one run's Newton iteration, allocated once per batch: the nonlinear set
     (``set_dofs``, forces ``set_force`` [N], dense ``tangent`` [N/m], each DOF's ``position`` in the
-    set or −1), each head's ``contact_now`` [N], a dropper's six set positions ``dropper_set``; the
+    set or −1), each head's ``contact_now`` [N], the set positions ``piece_dofs``, forces
+    ``piece_force`` [N] and tangent ``piece_tangent`` [N/m] of one contribution (up to six DOFs); the
     full displacement ``u_of`` [m] and velocity ``v_of`` [m/s] at the DOFs the forces read; each
     dropper's ``stretch`` [m] and ``rate`` [m/s]; the current φ (``phi_dofs``, ``phi`` [N]) and the
     ``residual`` on the set [N]."""
@@ -181,7 +189,9 @@ class Scratch(NamedTuple):
     tangent: np.ndarray
     position: np.ndarray
     contact_now: np.ndarray
-    dropper_set: np.ndarray
+    piece_dofs: np.ndarray
+    piece_force: np.ndarray
+    piece_tangent: np.ndarray
     u_of: np.ndarray
     v_of: np.ndarray
     stretch: np.ndarray
@@ -209,7 +219,9 @@ def make_scratch(shared: Shared) -> Scratch:
         tangent=np.empty((size, size)),
         position=np.full(n + n_p, -1, dtype=np.int64),
         contact_now=np.zeros(len(shared.head_dof)),
-        dropper_set=np.empty(6, dtype=np.int64),
+        piece_dofs=np.empty(PIECE_SIZE, dtype=np.int64),
+        piece_force=np.empty(PIECE_SIZE),
+        piece_tangent=np.empty((PIECE_SIZE, PIECE_SIZE)),
         u_of=np.zeros(n + n_p),
         v_of=np.zeros(n + n_p),
         stretch=np.zeros(n_d),

@@ -3,7 +3,7 @@ the last bit, for a batch that fills one block of lanes and starts a second, and
 six dead lanes, with runs that stop at different steps and a run that fails; and the fallback to
 numba without a compiler.
 
-The section is the 5-span ST 9,8/9,8 of ``test_batch.py`` (one lead-in span, the central span
+The section is the 5-span ST 9,8/9,8 of ``batch/test_simulation.py`` (one lead-in span, the central span
 analysed), which keeps each batch to a few seconds.
 """
 

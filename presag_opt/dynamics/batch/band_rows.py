@@ -5,7 +5,7 @@ is empty: its elements couple neighbouring nodes only, so a row of K of the case
 10 nonzero entries of the 41 its bandwidth of 20 allows, and the Cholesky factor of K_eff about 10 of
 21 (the factor fills in only between the first and last nonzero of a profile). A sweep over the full
 band spends three quarters of its arithmetic multiplying by exact zeros. The kernel's sweeps
-(:mod:`presag_opt.dynamics.kernel` in numba and ``sweeps.c``) read instead the lists built here: the
+(:mod:`presag_opt.dynamics.batch.kernel` in numba and ``sweeps.c``) read instead the lists built here: the
 same products, added in the same order, less the ones whose matrix entry is exactly zero. For a
 finite vector that changes no number (a ± 0·x = a, up to the sign of a zero result).
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.dynamics import batch_system
+from presag_opt.dynamics.batch import system as batch_system
 
 
 def test_the_lower_band_in_a_given_order():

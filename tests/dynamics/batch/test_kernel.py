@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics import kernel, kernel_data
+from presag_opt.dynamics.batch import kernel, kernel_data
 
 
 def _dense(band):
@@ -75,7 +75,7 @@ def test_runs_stop_at_their_last_step():
     work = kernel_data.Work(np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.ones(3), np.ones(3),
                             np.zeros(3, np.int64), np.zeros((3, 1), np.int64), np.zeros((3, 1)))
     assert kernel.start_step(3, runs, out, work) == 3 and np.all(work.scale == 0.0)
-    kernel.finish_step(3, 3, runs, out)
+    kernel.mark_finished_runs(3, 3, runs, out)
     assert list(status) == [kernel_data.STATUS_RUNNING, kernel_data.STATUS_OK, kernel_data.STATUS_OK]
     assert kernel.start_step(4, runs, out, work) == 1
     status[0] = kernel_data.STATUS_NOT_CONVERGED

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics import batch_predictor, batch_update
-
 
 def _with_phi(batch, dofs, phi):
     sc = batch.scratch
@@ -14,13 +12,13 @@ def _with_phi(batch, dofs, phi):
     return len(dofs)
 
 
-def test_the_iterate_where_the_forces_read_it(synthetic_batch):
+def test_the_iterate_where_the_forces_read_it(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sh, st, sc, w = batch.shared, batch.state, batch.scratch, batch.work
-    pan = batch_predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
-    drop = batch_predictor.predictor_state(0, 1, sh, batch.runs, st, w, sc, pan)
+    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    drop = plain_parts.predictor.predictor_state(0, 1, sh, batch.runs, st, w, sc, pan)
     n_phi = _with_phi(batch, [2, 6], [30.0, -20.0])
-    batch_update.iterate_kinematics(0, 1, n_phi, batch.scalars, sh, batch.runs, st, w, sc, pan, drop)
+    plain_parts.update.iterate_kinematics(0, 1, n_phi, batch.scalars, sh, batch.runs, st, w, sc, pan, drop)
     s, a1 = batch.scalars.scheme.s, batch.scalars.scheme.a1
     delta = w.delta[:, 0] - s * 30.0 * sh.columns[2]  # δ = δ_lin − s Z φ
     delta_p = pan.delta_lin - s * sh.pantograph_inverse[:, 0] * -20.0
@@ -32,13 +30,13 @@ def test_the_iterate_where_the_forces_read_it(synthetic_batch):
     np.testing.assert_allclose(sc.rate, [g @ (st.v[:, 0] + a1 * delta)], rtol=1e-12)
 
 
-def test_the_residual_is_s_times_f_minus_phi_on_the_set(synthetic_batch):
+def test_the_residual_is_s_times_f_minus_phi_on_the_set(plain_parts, synthetic_batch):
     batch = synthetic_batch(head_height=-1e-3)  # in a gap: only friction (DOFs 6, 7) carries force
     sc = batch.scratch
     sc.position[:] = -1
     sc.u_of[:], sc.v_of[:], sc.stretch[:], sc.rate[:] = 0.0, 0.0, 1.0, 0.0
     n_phi = _with_phi(batch, [1, 6], [4.0, 3.0])
-    count, slack, largest = batch_update.iterate_residual(0, 1, n_phi, batch.scalars, batch.shared, batch.runs, sc)
+    count, slack, largest = plain_parts.update.iterate_residual(0, 1, n_phi, batch.scalars, batch.shared, batch.runs, sc)
     s = batch.scalars.scheme.s
     assert count == 5 and slack == 0  # nodes 2, 3, the head, the frame, and φ's DOF 1
     residual = dict(zip(sc.set_dofs[:count].tolist(), sc.residual[:count].tolist()))
@@ -46,20 +44,20 @@ def test_the_residual_is_s_times_f_minus_phi_on_the_set(synthetic_batch):
     assert largest == max(abs(r) for r in residual.values())
 
 
-def test_the_end_of_the_step(synthetic_batch):
+def test_the_end_of_the_step(plain_parts, synthetic_batch):
     """φ's catenary part to sweep 3, its pantograph part into the pantographs' new state, the
     residual joined to the right-hand side and the records written."""
     batch = synthetic_batch()
     sh, st, sc, w, out = batch.shared, batch.state, batch.scratch, batch.work, batch.out
     c = batch.scalars.scheme
-    pan = batch_predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
     delta_lin_p = pan.delta_lin.copy()
     n_phi = _with_phi(batch, [4, 7], [10.0, 5.0])
     sc.position[:] = -1
     sc.set_dofs[:2], sc.residual[:2], sc.contact_now[0] = [4, 7], [0.25, 0.5], 77.0
     sc.position[[4, 7]] = [0, 1]
     rhs_before, slack_before = st.r[4, 0], out.slack_max[0]
-    batch_update.finish_step(0, 2, 1, 2, n_phi, 3, batch.scalars, sh, st, out, w, sc, pan)
+    plain_parts.update.close_run_step(0, 2, 1, 2, n_phi, 3, batch.scalars, sh, st, out, w, sc, pan)
     assert w.phi_count[0] == 1 and w.phi_column[0, 0] == 4 and w.phi_coefficient[0, 0] == c.s * 10.0
     delta_p = delta_lin_p - c.s * sh.pantograph_inverse[:, 1] * 5.0
     np.testing.assert_allclose(st.pantograph_u[:, 0], pan.u_pred + delta_p, rtol=1e-14)
@@ -72,25 +70,25 @@ def test_the_end_of_the_step(synthetic_batch):
     assert out.contact_force[0, 0, 2] == 77.0 and out.slack_max[0] == max(slack_before, 3)
 
 
-def test_a_run_converged_at_its_predictor_takes_sweep_ones_c_v_plus_k_u_as_its_right_hand_side(synthetic_batch):
+def test_a_run_converged_at_its_predictor_takes_sweep_ones_c_v_plus_k_u_as_its_right_hand_side(plain_parts, synthetic_batch):
     """δ = 0 everywhere, rhs = s (C ṽ + K ũ) on every row from sweep 1's ``linear``, R = s f0 on the set,
     the pantographs' δ_lin zero; the other runs' columns untouched."""
     batch = synthetic_batch()
     sh, st, w, sc, c = batch.shared, batch.state, batch.work, batch.scratch, batch.scalars.scheme
     w.linear[:, 0] = np.linspace(-30.0, 40.0, batch.n)
     sc.set_force[:2] = [12.0, -3.0]
-    pan = batch_predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
     pan.delta_lin[:] = [1e-3, -2e-3]
-    batch_update.converged_at_predictor(0, 2, batch.scalars, sh, st, w, sc, pan)
+    plain_parts.update.converged_at_predictor(0, 2, batch.scalars, sh, st, w, sc, pan)
     assert np.array_equal(st.r[:, 0], c.s * w.linear[:, 0]) and np.all(w.delta[:, 0] == 0.0)
     assert np.all(pan.delta_lin == 0.0) and np.array_equal(sc.residual[:2], c.s * np.array([12.0, -3.0]))
 
 
-def test_a_failed_run_keeps_its_reason(synthetic_batch):
+def test_a_failed_run_keeps_its_reason(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sc = batch.scratch
     sc.position[:] = -1
     sc.set_dofs[0], sc.position[3] = 3, 0
-    batch_update.fail_run(0, 2, np.inf, 1, 4, batch.out, sc)
-    assert batch.out.status[0] == batch_update.STATUS_NOT_FINITE and batch.out.fail_step[0] == 2
+    plain_parts.update.fail_run(0, 2, np.inf, 1, 4, batch.out, sc)
+    assert batch.out.status[0] == plain_parts.update.STATUS_NOT_FINITE and batch.out.fail_step[0] == 2
     assert batch.out.iterations[0] == 4 and sc.position[3] == -1

@@ -1,24 +1,27 @@
 """One batch run's Newton iterate after a correction, and the end of its step (numba).
 
-After each Woodbury correction (:mod:`presag_opt.dynamics.batch_woodbury`) the new iterate
+After each Woodbury correction (:mod:`presag_opt.dynamics.batch.woodbury`) the new iterate
 δ = δ_lin − s Z φ is formed only where the nonlinear forces read it (:func:`iterate_kinematics`),
 and its forces and residual s (f − φ) on the set follow (:func:`iterate_residual`; together
 :func:`update_iterate`). A run whose iteration fails stops (:func:`fail_run`). At the step's end
-(:func:`finish_step`) φ's catenary part goes to sweep 3 of :mod:`presag_opt.dynamics.kernel`
+(:func:`close_run_step`) φ's catenary part goes to sweep 3 of :mod:`presag_opt.dynamics.batch.kernel`
 (:func:`hand_phi_to_sweep`), the pantographs take their new state (:func:`update_pantographs`), the
 final residual joins the right-hand side (:func:`join_residual`), and a run that converged at its
 predictor gets the right-hand side that makes sweep 3 exact (:func:`converged_at_predictor`, from
-sweep 1's C ṽ + K ũ). The arrays are the named tuples of :mod:`presag_opt.dynamics.kernel_data`.
+sweep 1's C ṽ + K ũ). The arrays are the named tuples of :mod:`presag_opt.dynamics.batch.kernel_data`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.batch_forces import enter_set, nonlinear_forces
-from presag_opt.dynamics.batch_woodbury import influence
-from presag_opt.dynamics.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
+from presag_opt.dynamics import assembly
+from presag_opt.dynamics.batch.forces import enter_set, nonlinear_forces
+from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
+from presag_opt.dynamics.batch.woodbury import influence
 from presag_opt.native.jit import inline
+
+newmark_update = inline(assembly.newmark_update)
 
 
 @inline
@@ -29,28 +32,16 @@ def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scrat
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
     drop : DropperStep
         Run ``b``'s droppers at the predictor.
+    scalars, shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
@@ -99,20 +90,12 @@ def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    scalars, shared, runs, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
@@ -137,28 +120,16 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     n_phi : int
         Entries of φ from the last correction. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    runs : Runs
-        What differs between the runs.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
-        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch_predictor.pantograph_predictor`).
+        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
     drop : DropperStep
-        Run ``b``'s droppers at the predictor (:func:`~presag_opt.dynamics.batch_predictor.predictor_state`).
+        Run ``b``'s droppers at the predictor (:func:`~presag_opt.dynamics.batch.predictor.predictor_state`).
+    scalars, shared, runs, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop)
     return iterate_residual(b, step, n_phi, scalars, shared, runs, scratch)
@@ -170,20 +141,16 @@ def fail_run(b, step, largest, count, taken, out, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     largest : float
         Largest absolute residual at the last iterate. [N]
     count : int
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
+    out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     out.status[b] = STATUS_NOT_CONVERGED if np.isfinite(largest) else STATUS_NOT_FINITE
     out.fail_step[b] = step
@@ -205,18 +172,10 @@ def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan)
         Run, the column of the batch arrays. [-]
     count : int
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
+    scalars, shared, state, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     rhs, delta, linear, delta_lin = state.r, work.delta, work.linear, pan.delta_lin
@@ -241,16 +200,12 @@ def hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan):
         Run, the column of the batch arrays. [-]
     n_phi : int
         Entries of φ from the last correction (0 if none). [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
     s : float
         1 + α of the HHT-α scheme. [-]
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, inverse = shared.column_of, shared.pantograph_inverse
     phi_dofs, phi, delta_lin = scratch.phi_dofs, scratch.phi, pan.delta_lin
@@ -279,23 +234,18 @@ def update_pantographs(b, taken, scalars, shared, state, pan):
         Run, the column of the batch arrays. [-]
     taken : int
         Newton corrections taken in this step. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
     pan : PantographStep
         Run ``b``'s pantograph predictors.
+    scalars, shared, state : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
     pantograph_mass, pantograph_r = shared.pantograph_mass, state.pantograph_r
     u_pred, v_pred, p_rhs, p_linear, delta_lin = pan.u_pred, pan.v_pred, pan.rhs, pan.linear, pan.delta_lin
     for i in range(pantograph_mass.shape[0]):
-        ai = c.a0 * delta_lin[i]
+        ai, state.pantograph_v[i, b] = newmark_update(delta_lin[i], v_pred[i], c)
         state.pantograph_u[i, b] = u_pred[i] + delta_lin[i]
         state.pantograph_a[i, b] = ai
-        state.pantograph_v[i, b] = v_pred[i] + c.velocity_update * ai
         if taken == 0:
             pantograph_r[i, b] = p_linear[i]
         else:
@@ -310,24 +260,16 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     count : int
         Size of the set: DOFs that carry nonlinear forces at the iterate. [-]
     slack : int
         Recorded droppers slack at the iterate. [-]
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    out : Records
-        The records being written.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     s : float
         1 + α of the HHT-α scheme. [-]
+    shared, state, out, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     set_dofs, position, residual, contact_now = scratch.set_dofs, scratch.position, scratch.residual, scratch.contact_now
     rhs, pantograph_r = state.r, state.pantograph_r
@@ -345,16 +287,14 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
 
 
 @inline
-def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan):
+def close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan):
     """The end of run ``b``'s step: φ's catenary part to ``work`` for sweep 3, the pantographs' new
     state, the final residual R joined to the right-hand side, and the step's records.
 
     Parameters
     ----------
-    b : int
-        Run, the column of the batch arrays. [-]
-    step : int
-        Record (time step) being computed. [-]
+    b, step : int
+        The run (the column of the batch arrays) and the record (time step) being computed. [-]
     taken : int
         Newton corrections taken in this step. [-]
     count : int
@@ -363,20 +303,10 @@ def finish_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out
         Entries of φ from the last correction (0 if none was taken). [-]
     slack : int
         Recorded droppers slack at the iterate. [-]
-    scalars : Scalars
-        Constants of the batch.
-    shared : Shared
-        What the runs of the batch share.
-    state : RunState
-        The runs' state.
-    out : Records
-        The records being written.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
-        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch_predictor.pantograph_predictor`).
+        Run ``b``'s pantograph predictors (:func:`~presag_opt.dynamics.batch.predictor.pantograph_predictor`).
+    scalars, shared, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s = scalars.scheme.s
     if taken == 0:

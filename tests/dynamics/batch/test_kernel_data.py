@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics import kernel_data as kd
+from presag_opt.dynamics.batch import kernel_data as kd
 
 
 def test_the_largest_set_counts_every_dof_a_force_can_reach(synthetic_batch):
@@ -19,7 +19,7 @@ def test_the_scratch_arrays(synthetic_batch):
     size = kd.set_size(shared)
     assert scratch.tangent.shape == (size, size) and scratch.set_dofs.dtype == np.int64
     assert scratch.position.shape == (8,) and np.all(scratch.position == -1)  # no DOF in the set yet
-    assert scratch.stretch.shape == scratch.rate.shape == (1,) and scratch.dropper_set.shape == (6,)
+    assert scratch.stretch.shape == scratch.rate.shape == (1,) and scratch.piece_dofs.shape == (6,)
     assert scratch.u_of.shape == scratch.v_of.shape == (8,)
 
 

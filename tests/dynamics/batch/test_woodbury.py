@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from presag_opt.dynamics import batch_woodbury
-from presag_opt.dynamics.batch_predictor import PantographStep
+from presag_opt.dynamics.batch.predictor import PantographStep
 
 
 def _setup(batch, dofs, seed):
@@ -42,23 +41,23 @@ def _iterate(batch, count, s, delta_lin):
     return delta_lin - s * z @ phi
 
 
-def test_influence_reads_the_columns_and_the_pantograph_inverse(synthetic_batch):
+def test_influence_reads_the_columns_and_the_pantograph_inverse(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sh, n = batch.shared, batch.n
     args = (n, sh.column_of, sh.columns, sh.pantograph_inverse)
-    assert batch_woodbury.influence(1, 4, *args) == pytest.approx(np.linalg.inv(batch.k_cat)[1, 4], rel=1e-14)
-    assert batch_woodbury.influence(7, 6, *args) == sh.pantograph_inverse[1, 0]
-    assert batch_woodbury.influence(2, 6, *args) == 0.0 and batch_woodbury.influence(6, 2, *args) == 0.0
+    assert plain_parts.woodbury.influence(1, 4, *args) == pytest.approx(np.linalg.inv(batch.k_cat)[1, 4], rel=1e-14)
+    assert plain_parts.woodbury.influence(7, 6, *args) == sh.pantograph_inverse[1, 0]
+    assert plain_parts.woodbury.influence(2, 6, *args) == 0.0 and plain_parts.woodbury.influence(6, 2, *args) == 0.0
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_the_first_correction_solves_the_newton_equation(synthetic_batch, seed):
+def test_the_first_correction_solves_the_newton_equation(plain_parts, synthetic_batch, seed):
     batch = synthetic_batch()
     dofs = np.array([2, 3, 6, 7])
     count, pan, k_ext, delta_lin, t = _setup(batch, dofs, seed)
     s = batch.scalars.scheme.s
     f = batch.scratch.set_force[:count].copy()
-    n_phi = batch_woodbury.woodbury_correction(0, s, count, 0, 0, batch.shared, batch.work, batch.scratch, pan)
+    n_phi = plain_parts.woodbury.woodbury_correction(0, s, count, 0, 0, batch.shared, batch.work, batch.scratch, pan)
     assert n_phi == count and np.all(batch.scratch.position[dofs] == -1)
     e = np.eye(len(k_ext))[:, dofs]
     direct = np.linalg.solve(k_ext + s * e @ t @ e.T, k_ext @ delta_lin - s * e @ f)
@@ -67,17 +66,17 @@ def test_the_first_correction_solves_the_newton_equation(synthetic_batch, seed):
                                atol=1e-11 * np.max(np.abs(direct)))
 
 
-def test_a_later_correction_starts_from_the_current_iterate(synthetic_batch):
+def test_a_later_correction_starts_from_the_current_iterate(plain_parts, synthetic_batch):
     """After a first correction (φ kept), the second solves the Newton equation about δ_0."""
     batch = synthetic_batch()
     dofs = np.array([2, 3, 6, 7])
     count, pan, k_ext, delta_lin, _ = _setup(batch, dofs, 4)
     s = batch.scalars.scheme.s
-    n_phi = batch_woodbury.woodbury_correction(0, s, count, 0, 0, batch.shared, batch.work, batch.scratch, pan)
+    n_phi = plain_parts.woodbury.woodbury_correction(0, s, count, 0, 0, batch.shared, batch.work, batch.scratch, pan)
     delta0 = _iterate(batch, n_phi, s, delta_lin)
     count, _, _, _, t = _setup(batch, dofs, 5)  # new forces and tangent at δ_0; φ of the first kept
     f = batch.scratch.set_force[:count].copy()
-    batch_woodbury.woodbury_correction(0, s, count, n_phi, 1, batch.shared, batch.work, batch.scratch, pan)
+    plain_parts.woodbury.woodbury_correction(0, s, count, n_phi, 1, batch.shared, batch.work, batch.scratch, pan)
     e = np.eye(len(k_ext))[:, dofs]
     direct = delta0 + np.linalg.solve(k_ext + s * e @ t @ e.T,
                                       k_ext @ (delta_lin - delta0) - s * e @ f)

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from presag_opt.dynamics.assembly import effective_stiffness, newmark_update
 from presag_opt.dynamics.laws import SchemeConstants
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.static.banded_solver import BandedSolver
@@ -113,8 +114,7 @@ class EquationOfMotion:
 
     def effective_matrix(self) -> sp.csc_matrix:
         """K_eff = a0 M + s (K + a1 C). [N/m]"""
-        c = self.c
-        return (c.a0 * self.mass + c.s * (self.stiffness + c.a1 * self.damping)).tocsc()
+        return effective_stiffness(self.mass, self.damping, self.stiffness, self.c).tocsc()
 
     def inertia(self, a: np.ndarray) -> np.ndarray:
         """M a; elementwise for a lumped (diagonal) mass matrix. [N]
@@ -183,8 +183,7 @@ class StepTerms:
         c : SchemeConstants
             Constants of the time-stepping scheme.
         """
-        a = c.a0 * (u - self.u_pred)
-        return a, self.v_pred + c.velocity_update * a
+        return newmark_update(u - self.u_pred, self.v_pred, c)
 
 
 def full_residual(system: EquationOfMotion, step: StepTerms, u: np.ndarray, nl: NonlinearForce) -> tuple[np.ndarray, float]:

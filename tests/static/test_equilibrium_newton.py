@@ -11,8 +11,8 @@ import pytest
 
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import StaticSettings
+from presag_opt.static.equilibrium_newton import ROUND_OFF_FACTOR, force_tolerance, newton_equilibrium, newton_solve
 from presag_opt.static.form_finding import form_find
-from presag_opt.static.newton import ROUND_OFF_FACTOR, force_tolerance, newton_equilibrium, newton_solve
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 

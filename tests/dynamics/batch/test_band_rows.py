@@ -1,11 +1,11 @@
-"""The bands' nonzero entries by rows (:mod:`presag_opt.dynamics.band_rows`): every nonzero entry once,
+"""The bands' nonzero entries by rows (:mod:`presag_opt.dynamics.batch.band_rows`): every nonzero entry once,
 no zero, in a full-band sweep's order; and the case study's bands, whose zeros the sweeps skip."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.dynamics.band_rows import lower_rows, symmetric_rows, upper_rows
+from presag_opt.dynamics.batch.band_rows import lower_rows, symmetric_rows, upper_rows
 
 
 def _random_band(n=40, bw=5, fill=0.4, seed=3):

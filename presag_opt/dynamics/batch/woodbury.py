@@ -7,15 +7,15 @@ identity on that set S: the target x_S = (δ_lin − s Z f)_S − δ_S (:func:`w
 system y = (I + s T Z_SS)⁻¹ s T x_S, and the new φ = f + y/s (:func:`woodbury_correction`).
 
 It is the correction of the single-run integrator
-(:meth:`presag_opt.dynamics.newton.FactorisedSolver.correction`, whose Woodbury step is
+(:meth:`presag_opt.dynamics.step_solvers.FactorisedSolver.correction`, whose Woodbury step is
 :func:`presag_opt.static.woodbury.woodbury_update`) written for φ instead of the full δ, and it is
 not that function compiled, for three reasons: the batch never forms δ on all DOFs (sweep 3 of
-:mod:`presag_opt.dynamics.kernel` does, for all runs at once), it reads Z entry by entry from the
+:mod:`presag_opt.dynamics.batch.kernel` does, for all runs at once), it reads Z entry by entry from the
 cached columns instead of gathering a dense Z_SS, and it forms s T Z_SS by loops over the nonzero
 tangent entries in a fixed order, where the integrator's matrix products go through BLAS. The loops
 make every run's arithmetic the same IEEE operations whatever the lanes (C and numba sweeps equal to
 the last bit); calling the NumPy function would round differently, and allocate, in every
-iteration. The two stay equal to round-off (``tests/dynamics/test_batch.py`` holds the batch to the
+iteration. The two stay equal to round-off (``tests/dynamics/batch/test_simulation.py`` holds the batch to the
 single-run path).
 
 References
@@ -75,14 +75,10 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
         Entries of φ from the last correction (0 before the first). [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch (``delta`` holds δ_lin).
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (its δ_lin).
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     set_dofs, set_force, phi_dofs, phi = scratch.set_dofs, scratch.set_force, scratch.phi_dofs, scratch.phi
@@ -108,7 +104,8 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
 def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate: y = (I + s T Z_SS)⁻¹ s T x_S with x_S of
     :func:`woodbury_target`; the new δ = δ_lin − s Z φ with φ = f + y/s, left in ``scratch.phi``
-    (its DOFs in ``scratch.phi_dofs``; the set's positions cleared). Returns the size of φ.
+    (its DOFs in ``scratch.phi_dofs``; the set's positions cleared); ``work.delta`` holds δ_lin.
+    Returns the size of φ.
 
     Parameters
     ----------
@@ -122,14 +119,10 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
         Entries of φ from the last correction (0 before the first). [-]
     taken : int
         Newton corrections taken in this step so far. [-]
-    shared : Shared
-        What the runs of the batch share.
-    work : Work
-        Per-step work arrays of the batch.
-    scratch : Scratch
-        Scratch arrays of the run being iterated.
     pan : PantographStep
         Run ``b``'s pantograph predictors (``pantograph_predictor``).
+    shared, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     column_of, columns, pantograph_inverse = shared.column_of, shared.columns, shared.pantograph_inverse
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
