@@ -34,7 +34,6 @@ from presag_opt.design.line_results import SpanPresags
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.errors import ModelError
 from presag_opt.robust.cut_rounding import rounding_effect
-from presag_opt.robust.lp import robust_presag
 from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios
 from presag_opt.robust.tolerance import check_within, tolerance_band
@@ -90,11 +89,9 @@ def span_robust_designs(path: PathModel, scenarios: ForceScenarios, within: floa
     """
     out = []
     for span in path.spans if spans is None else spans:
-        alone = path.of_span(int(span))
-        best = robust_presag(alone, scenarios)
-        band = tolerance_band(alone, scenarios, within)
-        out.append(SpanRobust(span=int(span), presag_rel=best.presag_rel, tolerance=(band.low, band.high),
-                              worst_case_waviness=best.worst_case_waviness, within=within))
+        band = tolerance_band(path.of_span(int(span)), scenarios, within)
+        out.append(SpanRobust(span=int(span), presag_rel=band.best, tolerance=(band.low, band.high),
+                              worst_case_waviness=band.best_objective, within=within))
     return tuple(out)
 
 
