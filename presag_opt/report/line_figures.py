@@ -62,7 +62,8 @@ def plot_profile(design: LineDesign, path: str | Path) -> Path:
     mark_sections(design, (ax,))
     ax.set_xlabel("chainage [m]")
     ax.set_ylabel("height above the rail [m]")
-    ax.legend(loc="upper right", fontsize=8)
+    # above the axes: inside, any corner covers the wires of a long line
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=4, fontsize=8, frameon=False)
     return save_figure(fig, path)
 
 
