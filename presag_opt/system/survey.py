@@ -37,16 +37,13 @@ an error names the file, the row, the column, the value, its unit and the valid 
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import itertools
 import math
-import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from presag_opt.errors import ModelError
 from presag_opt.system.cant import MAX_CANT, level_frame
 from presag_opt.system.catenary import Catenary, SpanLayout
 from presag_opt.system.masts import (
@@ -56,6 +53,7 @@ from presag_opt.system.masts import (
     SYSTEM_HEIGHT_RANGE,
     MastGeometry,
 )
+from presag_opt.system.survey_files import SurveyError, file_rows
 from presag_opt.system.survey_stitch import section_stitch_wire, stitched_value
 
 COLUMNS = ("mast", "chainage_m", "stagger_mm", "contact_wire_height_m", "system_height_m", "curve_radius_m",
@@ -77,10 +75,6 @@ SPAN_LENGTH_RANGE = (5.0, 120.0)
 DEFAULT_SECTION = "1"
 """Section id of a table without a ``section`` column."""
 
-
-
-class SurveyError(ModelError):
-    """A survey table with at least one bad value (the message lists every one, the first in full)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -287,18 +281,7 @@ def load_survey(path: str | Path, *, working_width: float = DEFAULT_WORKING_WIDT
     SurveyError
         A missing file, a missing or unknown column, or any bad value (every one is listed).
     """
-    path = Path(path)
-    if not path.is_file():
-        raise SurveyError(f"survey file {path} does not exist")
-    suffix = path.suffix.lower()
-    if suffix == ".csv":
-        rows = _csv_rows(path)
-    elif suffix == ".xlsx":
-        rows = _xlsx_rows(path)
-    elif suffix == ".toml":
-        rows = _toml_rows(path)
-    else:
-        raise SurveyError(f"survey file {path}: unknown format {path.suffix!r} (give .csv, .xlsx or .toml)")
+    rows = file_rows(path, COLUMNS, OPTIONAL_COLUMNS)
     return survey_from_rows(rows, source=path.name, working_width=working_width)
 
 
@@ -342,76 +325,6 @@ def survey_from_rows(rows: Iterable[tuple[str, Mapping[str, object]]], *, source
         # Errors of the whole table (chainage order, sections) only when every row reads cleanly.
         raise SurveyError(_summary(errors))
     return Survey(masts=tuple(masts), source=source, working_width=working_width)
-
-
-def _csv_rows(path: Path) -> list[tuple[str, dict]]:
-    """The rows of a CSV survey; a header without commas but with semicolons (Excel in a locale whose decimal
-    mark is a comma) is read with semicolons between the fields."""
-    with path.open(newline="", encoding="utf-8-sig") as handle:
-        first = handle.readline()
-        handle.seek(0)
-        delimiter = ";" if ";" in first and "," not in first else ","
-        reader = csv.DictReader(handle, delimiter=delimiter)
-        _check_header(path.name, reader.fieldnames or [])
-        rows = []
-        for row in reader:
-            if not any((v or "").strip() for v in row.values()):
-                continue
-            rows.append((f"row {reader.line_num}", {k.strip(): v for k, v in row.items() if k is not None}))
-        return rows
-
-
-def _xlsx_rows(path: Path) -> list[tuple[str, dict]]:
-    import openpyxl  # imported here: only an xlsx survey pays for it
-
-    try:
-        book = openpyxl.load_workbook(path, read_only=True, data_only=True)
-    except Exception as exc:  # openpyxl raises several types for files it cannot read
-        raise SurveyError(f"survey file {path.name}: not a readable xlsx workbook ({exc})") from exc
-    sheet = book["survey"] if "survey" in book.sheetnames else book.worksheets[0]
-    lines = list(sheet.iter_rows(values_only=True))
-    book.close()
-    if not lines:
-        raise SurveyError(f"survey file {path.name}: the sheet {sheet.title!r} is empty")
-    header = [str(h).strip() if h is not None else "" for h in lines[0]]
-    _check_header(f"{path.name}, sheet {sheet.title!r}", [h for h in header if h])
-    rows = []
-    for number, values in enumerate(lines[1:], start=2):
-        if all(v is None or str(v).strip() == "" for v in values):
-            continue
-        rows.append((f"row {number}", {h: v for h, v in zip(header, values) if h}))
-    return rows
-
-
-def _toml_rows(path: Path) -> list[tuple[str, dict]]:
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise SurveyError(f"survey file {path.name}: not valid TOML ({exc})") from exc
-    extra = sorted(set(data) - {"masts"})
-    if extra:
-        raise SurveyError(f"survey file {path.name}: unknown key {extra[0]!r} (give the masts as [[masts]] tables)")
-    masts = data.get("masts")
-    if not isinstance(masts, list) or not masts:
-        raise SurveyError(f"survey file {path.name}: no [[masts]] tables")
-    return [(f"masts[{i}]", row) for i, row in enumerate(masts)]
-
-
-def _check_header(where: str, header: list[str]) -> None:
-    names = [h.strip() for h in header]
-    missing = [c for c in COLUMNS if c not in names]
-    if missing and len(names) == 1 and (";" in names[0] or "\t" in names[0]):
-        found = "semicolons" if ";" in names[0] else "tabs"
-        raise SurveyError(f"survey file {where}: the header is one column holding {found} ({names[0][:60]!r}); "
-                          "separate the columns with commas (or semicolons throughout, with none of the header's "
-                          "names holding a comma)")
-    if missing:
-        raise SurveyError(f"survey file {where}: column {missing[0]!r} is missing (columns: {', '.join(COLUMNS)}, "
-                          f"optionally {', '.join(OPTIONAL_COLUMNS)})")
-    unknown = [h for h in names if h not in COLUMNS + OPTIONAL_COLUMNS]
-    if unknown:
-        raise SurveyError(f"survey file {where}: unknown column {unknown[0]!r} (columns: "
-                          f"{', '.join(COLUMNS + OPTIONAL_COLUMNS)})")
 
 
 # ----- checks ---------------------------------------------------------------------------------------
