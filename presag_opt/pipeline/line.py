@@ -28,8 +28,11 @@ from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, check_uplif
 from presag_opt.design.line import LineOptions, build_line, size_line
 from presag_opt.design.line_results import LineDesign, LineSizing, SpanDesign
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
+from presag_opt.display import data_frame, html_summary
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
-from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
+from presag_opt.errors import ModelError
+from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, JOB_OPTIONS, DynamicOptions
+from presag_opt.pipeline.line_tables import dropper_rows, span_rows
 from presag_opt.pipeline.validity import ValidityRange, stored_sweep
 from presag_opt.robust.dynamic_check import DynamicCheck, dynamic_check, window_settings
 from presag_opt.robust.dynamic_design import DynamicObjective
@@ -151,6 +154,37 @@ class LineAnswer:
             Evidence name to the option of the running command that supplies it.
         """
         return [self.headline(), *self.decision.lines(options, [s.length for s in self.design.spans])[1:]]
+
+    def table(self, name: str = "spans") -> list[dict]:
+        """A table as rows: ``spans`` or ``droppers`` (the rows of ``spans.csv`` and ``droppers.csv``) or
+        ``answers`` (the decision's).
+
+        Parameters
+        ----------
+        name : {"spans", "droppers", "answers"}
+            The table.
+        """
+        tables = {"spans": lambda: span_rows(self), "droppers": lambda: dropper_rows(self.design),
+                  "answers": self.decision.table}
+        if name not in tables:
+            raise ModelError(f"table = {name!r} is not one of {', '.join(tables)}")
+        return tables[name]()
+
+    def to_frame(self, name: str = "spans"):
+        """:meth:`table` as a pandas DataFrame.
+
+        Parameters
+        ----------
+        name : {"spans", "droppers", "answers"}
+            The table.
+        """
+        return data_frame(self.table(name))
+
+    def _repr_html_(self) -> str:
+        shown = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_tolerance_low_mm",
+                 "presag_tolerance_high_mm", "flag")
+        return html_summary(self.headline(), self.lines(JOB_OPTIONS)[1:],
+                            [{k: row[k] for k in shown} for row in self.table("spans")])
 
 
 def span_flag(span: SpanDesign, crew: float) -> str:
