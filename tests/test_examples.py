@@ -10,12 +10,17 @@ import pytest
 
 MODULES = (
     "presag_opt.display",
+    "presag_opt.contact_force",
     "presag_opt.design.band",
+    "presag_opt.design.quasi_static",
+    "presag_opt.dynamics.laws",
+    "presag_opt.robust.lp",
     "presag_opt.jobs.band",
     "presag_opt.jobs.line",
     "presag_opt.jobs.studies",
 )
-"""Modules whose examples run here (the jobs, the band in the designer's units, the notebook display)."""
+"""Modules whose examples run here: the jobs, the laws (F_m, the Δe rule, contact, friction, the tension-only
+dropper, the HHT constants, the robust objective), the band in the designer's units, the notebook display."""
 
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 

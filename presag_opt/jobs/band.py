@@ -229,15 +229,13 @@ def robust_design(
 
     Notes
     -----
-    The robust pre-sag minimises the risk measure of the waviness R over the mean-force scenarios
-    :math:`F_{m,j}` of the band, with R the range of the contact-wire height under a moving force
-    linearised at the nominal state:
+    The robust pre-sag minimises the risk measure of the waviness R_k of the contact-wire path under each
+    mean force F_k of the band, h_k = z(x; S) + F_k e(x; F_k) (the equations and the other risk measures
+    in :func:`~presag_opt.robust.lp.robust_presag`):
 
     .. math::
 
-        \min_{S}\; \max_j R_j(S), \qquad R_j(S) = \max_i z_{ij}(S) - \min_i z_{ij}(S),
-
-    a linear programme in the dropper depths (minimax; ``mean`` and CVaR are the other risks).
+        \min_{S}\; \max_k R_k(S), \qquad R_k(S) = \max_x h_k(x; S) - \min_x h_k(x; S).
 
     Examples
     --------
