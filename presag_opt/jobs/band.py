@@ -28,6 +28,7 @@ from presag_opt.system.catenary import Catenary
 
 if TYPE_CHECKING:
     from presag_opt.dynamics.pantograph import Pantograph
+    from presag_opt.dynamics.settings import SimulationSettings
     from presag_opt.pipeline.band import BandAnswer
 
 
@@ -219,8 +220,22 @@ def robust_design(
         Construction step of per-dropper heights. [mm]
     asymmetric : bool
         Allow per-dropper profiles that are not symmetric.
-    within_percent, uplift_limit_mm, crew_tolerance_mm, dropper_error_mm, study, element_length, allow_supercritical, progress
-        As :func:`recommend`.
+    within_percent : float
+        Allowed loss of the tolerance intervals. [%]
+    uplift_limit_mm : float
+        Steady-arm uplift limit. [mm]
+    crew_tolerance_mm : float, optional
+        The crew's build tolerance of the mid-span pre-sag, ± (default: the assumed 2.5). [mm]
+    dropper_error_mm : float, optional
+        Instead: σ of each dropper's cut length, the crew tolerance then from a Monte Carlo. [mm]
+    study : str or Path, optional
+        A stored validity study (``presag sweep``).
+    element_length : float
+        Longest element of the static model. [m]
+    allow_supercritical : bool
+        Accept a top speed at or above β = 0.7 of the model's wave speed.
+    progress : callable, optional
+        Called with a short message before each expensive step.
 
     Returns
     -------
@@ -273,6 +288,7 @@ def dynamic_robust_design(
     study: str | Path | None = None,
     element_length: float = ELEMENT_LENGTH,
     workers: int = WORKERS,
+    settings: SimulationSettings | None = None,
     allow_supercritical: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> BandAnswer:
@@ -296,8 +312,24 @@ def dynamic_robust_design(
         Simulated static forces and speeds across the band. [-]
     workers : int
         Processes that simulate pre-sags side by side. [-]
-    within_percent, uplift_limit_mm, crew_tolerance_mm, dropper_error_mm, study, element_length, allow_supercritical, progress
-        As :func:`recommend`.
+    settings : SimulationSettings, optional
+        Numerics of the runs (default: automatic numerics from the speed; the command line's).
+    within_percent : float
+        Allowed loss of the tolerance intervals. [%]
+    uplift_limit_mm : float
+        Steady-arm uplift limit. [mm]
+    crew_tolerance_mm : float, optional
+        The crew's build tolerance of the mid-span pre-sag, ± (default: the assumed 2.5). [mm]
+    dropper_error_mm : float, optional
+        Instead: σ of each dropper's cut length, the crew tolerance then from a Monte Carlo. [mm]
+    study : str or Path, optional
+        A stored validity study (``presag sweep``).
+    element_length : float
+        Longest element of the static model. [m]
+    allow_supercritical : bool
+        Accept a top speed at or above β = 0.7 of the model's wave speed.
+    progress : callable, optional
+        Called with a short message before each expensive step.
 
     Returns
     -------
@@ -330,7 +362,7 @@ def dynamic_robust_design(
     check_band_speed(band, [model], allow_supercritical)
     options = {} if pantograph is None else {"pantograph": pantograph}
     dynamic = DynamicOptions(objective=objective, risk=Risk.parse(risk), static_points=int(static_points),
-                             speed_points=int(speed_points), workers=workers, **options)
+                             speed_points=int(speed_points), workers=workers, settings=settings, **options)
     return answer_band([model], band, numerics=StaticNumerics(element_length=element_length), dynamic=dynamic,
                        progress=progress,
                        **decision_settings(within_percent, uplift_limit_mm, crew_tolerance_mm, dropper_error_mm, study))
