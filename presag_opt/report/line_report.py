@@ -14,11 +14,12 @@ from pathlib import Path
 from presag_opt.design.band import KMH
 from presag_opt.design.line_results import LineDesign
 from presag_opt.errors import ModelError
-from presag_opt.pipeline.line import LineAnswer, LineDynamicCheck
-from presag_opt.pipeline.line_tables import (  # noqa: F401 (the tables' columns, read from here by tests)
+from presag_opt.pipeline.line import (  # noqa: F401 (the tables' columns, read from here by tests)
     DROPPER_COLUMNS,
     SPAN_COLUMNS,
     STITCH_COLUMNS,
+    LineAnswer,
+    LineDynamicCheck,
     dropper_columns,
     dropper_rows,
     span_rows,

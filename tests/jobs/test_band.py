@@ -1,4 +1,4 @@
-"""The jobs (presag_opt.jobs): the command line's defaults, the designer's units, the results in a notebook."""
+"""The band jobs (presag_opt.jobs.band): the command line's defaults, the designer's units, the decision in a notebook."""
 
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ import inspect
 import pytest
 
 from presag_opt import OperatingBand, jobs
-from presag_opt.cli import line, recommend, robust
+from presag_opt.cli import recommend, robust
 from presag_opt.design.band import CASE_STUDY_BAND
 from presag_opt.errors import ModelError
 
 
-def _parser(register) -> argparse.ArgumentParser:
+def parser_of(register) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser()
     register(parser.add_subparsers(dest="command"))
     return parser
@@ -22,12 +22,11 @@ def _parser(register) -> argparse.ArgumentParser:
 @pytest.mark.parametrize(("register", "argv", "job"), [
     (recommend.register, ["recommend"], jobs.recommend),
     (robust.register, ["robust"], jobs.robust_design),
-    (line.register, ["design", "line.csv", "--system", "st_9.8_ideal", "--out", "out"], jobs.design_line),
 ])
 def test_each_command_s_defaults_are_its_job_s(register, argv, job):
     from presag_opt.cli.decision_options import decision_keywords
 
-    args = _parser(register).parse_args(argv)
+    args = parser_of(register).parse_args(argv)
     defaults = {n: p.default for n, p in inspect.signature(job).parameters.items()}
     for name, value in decision_keywords(args).items():
         if name in defaults:
