@@ -26,9 +26,9 @@ def data_frame(rows: Rows):
     Examples
     --------
     >>> from presag_opt.display import data_frame
-    >>> data_frame([{"method": "Δe rule", "S [mm]": 55.9}])  # doctest: +SKIP
-        method  S [mm]
-    0  Δe rule    55.9
+    >>> frame = data_frame([{"method": "Δe rule", "S [mm]": 60.8}, {"method": "robust", "S [mm]": 55.8}])
+    >>> frame.columns.tolist(), frame["S [mm]"].tolist()
+    (['method', 'S [mm]'], [60.8, 55.8])
     """
     import pandas as pd
 
