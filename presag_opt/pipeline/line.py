@@ -183,10 +183,14 @@ class LineAnswer:
         return data_frame(self.table(name))
 
     def _repr_html_(self) -> str:
-        shown = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_tolerance_low_mm",
-                 "presag_tolerance_high_mm", "flag")
+        def low_high(row: dict) -> str:
+            low, high = row["presag_tolerance_low_mm"], row["presag_tolerance_high_mm"]
+            return "" if low == "" else f"{low:.1f}–{high:.1f}"
+
         return html_summary(self.headline(), self.lines(JOB_OPTIONS)[1:],
-                            [{k: row[k] for k in shown} for row in self.table("spans")])
+                            [{"section": r["section"], "span": f"{r['from_mast']}–{r['to_mast']}", "l [m]": r["length_m"],
+                              "S built [mm]": r["presag_mm"], "own tolerance [mm]": low_high(r), "flag": r["flag"]}
+                             for r in self.table("spans")])
 
 
 DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
