@@ -39,8 +39,8 @@ LAYERS = {
     "plotting": 8,
     "sensitivity": 8,
     "report": 9,
-    "jobs": 9,
-    "cli": 10,
+    "jobs": 10,
+    "cli": 11,
 }
 """Layer of each part of the package (its first component below ``presag_opt``): a part may import
 only parts of lower layers, and parts of one layer (design and dynamics; robust and studies) not each other."""

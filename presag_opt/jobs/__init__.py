@@ -21,9 +21,26 @@ and give their tables as pandas data frames (``to_frame``).
 
 from __future__ import annotations
 
-from presag_opt.jobs.band import dynamic_robust_design, recommend, robust_design
-from presag_opt.jobs.line import design_line
-from presag_opt.jobs.studies import sensitivity_study, simulate, tolerance, validity
+from importlib import import_module
 
-__all__ = ["design_line", "dynamic_robust_design", "recommend", "robust_design", "sensitivity_study", "simulate",
-           "tolerance", "validity"]
+_JOBS = {
+    "recommend": "presag_opt.jobs.band", "robust_design": "presag_opt.jobs.band",
+    "dynamic_robust_design": "presag_opt.jobs.band", "design_line": "presag_opt.jobs.line",
+    "sensitivity_study": "presag_opt.jobs.studies", "tolerance": "presag_opt.jobs.studies",
+    "validity": "presag_opt.jobs.studies", "simulate": "presag_opt.jobs.studies",
+}
+"""Each job by the module that defines it, imported on first use: the command line reads
+:mod:`presag_opt.jobs.options` at start-up without loading the line design and its report."""
+
+__all__ = sorted(_JOBS)
+
+
+def __getattr__(name: str) -> object:
+    module = _JOBS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'presag_opt.jobs' has no attribute {name!r}")
+    return getattr(import_module(module), name)
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

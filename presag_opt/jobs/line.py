@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand
+from presag_opt.display import data_frame, html_summary
+from presag_opt.errors import ModelError
 from presag_opt.jobs.band import check_band_speed, decision_settings
 from presag_opt.jobs.options import (
     ELEMENT_LENGTH,
@@ -16,11 +19,57 @@ from presag_opt.jobs.options import (
     WORKERS,
     WORKING_WIDTH_MM,
 )
+from presag_opt.pipeline.band import JOB_OPTIONS
+from presag_opt.pipeline.line import LineAnswer
+from presag_opt.report.line_report import dropper_rows, rounding_rows, span_rows
 from presag_opt.system.catenary import Catenary
+from presag_opt.system.dropper_type import DEFAULT_DROPPER_TYPE
 
 if TYPE_CHECKING:
-    from presag_opt.pipeline.line import LineAnswer
+    from presag_opt.system.dropper_type import DropperType
     from presag_opt.system.survey import Survey
+
+
+@dataclass(frozen=True, kw_only=True)
+class LineDesignAnswer(LineAnswer):
+    """A designed line (:class:`~presag_opt.pipeline.line.LineAnswer`) that shows itself in a notebook and
+    gives its tables: the rows of ``spans.csv``, ``droppers.csv`` and ``rounding.csv``
+    (:mod:`presag_opt.report.line_report`) and the decision's answers."""
+
+    def table(self, name: str = "spans") -> list[dict]:
+        """A table as rows: ``spans``, ``droppers``, ``rounding`` (the line's CSV files, in table units) or
+        ``answers`` (the decision's).
+
+        Parameters
+        ----------
+        name : {"spans", "droppers", "rounding", "answers"}
+            The table.
+        """
+        tables = {"spans": lambda: span_rows(self), "droppers": lambda: dropper_rows(self.design),
+                  "rounding": lambda: rounding_rows(self.design), "answers": self.decision.table}
+        if name not in tables:
+            raise ModelError(f"table = {name!r} is not one of {', '.join(tables)}")
+        return tables[name]()
+
+    def to_frame(self, name: str = "spans"):
+        """:meth:`table` as a pandas DataFrame.
+
+        Parameters
+        ----------
+        name : {"spans", "droppers", "rounding", "answers"}
+            The table.
+        """
+        return data_frame(self.table(name))
+
+    def _repr_html_(self) -> str:
+        def low_high(row: dict) -> str:
+            low, high = row["presag_tolerance_low_mm"], row["presag_tolerance_high_mm"]
+            return "" if low == "" else f"{low:.1f}–{high:.1f}"
+
+        return html_summary(self.headline(), self.lines(JOB_OPTIONS)[1:],
+                            [{"section": r["section"], "span": f"{r['from_mast']}–{r['to_mast']}", "l [m]": r["length_m"],
+                              "S built [mm]": r["presag_mm"], "own tolerance [mm]": low_high(r), "flag": r["flag"]}
+                             for r in self.table("spans")])
 
 
 def design_line(
@@ -36,12 +85,14 @@ def design_line(
     study: str | Path | None = None,
     dynamic_check: bool = False,
     dynamic_robust: bool = False,
+    round_mm: float = 0.0,
+    dropper_type: str | Path | DropperType = DEFAULT_DROPPER_TYPE,
     step: float = LINE_ELASTICITY_STEP,
     element_length: float = ELEMENT_LENGTH,
     workers: int = WORKERS,
     allow_supercritical: bool = False,
     progress: Callable[[str], None] | None = None,
-) -> LineAnswer:
+) -> LineDesignAnswer:
     """Design a surveyed line: per-span pre-sag, a dropper schedule and one decision (``presag design``).
 
     Parameters
@@ -70,6 +121,12 @@ def design_line(
         Simulate the band's worst points on the section with the largest static uplift, as built.
     dynamic_robust : bool
         Run the dynamic robust design of that section and decide with it.
+    round_mm : float
+        The crew's cutting step the cut lengths are rounded to (0: exact); its error enters the installation
+        tolerance. [mm]
+    dropper_type : str, Path or DropperType
+        The dropper type whose terminal and loop allowances make the cut length (built-in name, file or
+        object).
     step : float
         Point spacing of the elasticity curves. [m]
     element_length : float
@@ -83,9 +140,9 @@ def design_line(
 
     Returns
     -------
-    LineAnswer
+    LineDesignAnswer
         The line as built (``answer.design``: spans, droppers, rules) and the decision; shows itself in
-        a notebook, its tables by :meth:`~presag_opt.pipeline.line.LineAnswer.to_frame`.
+        a notebook, its tables by :meth:`LineDesignAnswer.to_frame`.
 
     Examples
     --------
@@ -103,16 +160,21 @@ def design_line(
     from presag_opt.design.line import LineOptions
     from presag_opt.pipeline.band import DynamicOptions
     from presag_opt.pipeline.line import answer_line
+    from presag_opt.system.dropper_type import DropperType, check_step, load_dropper_type
     from presag_opt.system.loader import load_catenary
     from presag_opt.system.survey import load_survey
 
+    round_step = check_step(round_mm * 1e-3)
+    if not isinstance(dropper_type, DropperType):
+        dropper_type = load_dropper_type(dropper_type)
     if isinstance(survey, str | Path):
         survey = load_survey(survey, working_width=working_width_mm * 1e-3)
     base = system if isinstance(system, Catenary) else load_catenary(system)
     check_band_speed(band, [base], allow_supercritical)
     settings = decision_settings(within_percent, uplift_limit_mm, crew_tolerance_mm, study=study)
-    return answer_line(survey, base, band, options=LineOptions(rule=rule, element_length=element_length, step=step,
-                                                               workers=workers),
-                       within=settings["within"], uplift_limit=settings["uplift_limit"], crew=settings["crew"],
-                       study=study, check=dynamic_check,
-                       dynamic=DynamicOptions(workers=workers) if dynamic_robust else None, progress=progress)
+    options = LineOptions(rule=rule, element_length=element_length, step=step, workers=workers, round_step=round_step,
+                          dropper_type=dropper_type)
+    answer = answer_line(survey, base, band, options=options, within=settings["within"],
+                         uplift_limit=settings["uplift_limit"], crew=settings["crew"], study=study, check=dynamic_check,
+                         dynamic=DynamicOptions(workers=workers) if dynamic_robust else None, progress=progress)
+    return LineDesignAnswer(**{f.name: getattr(answer, f.name) for f in fields(answer)})

@@ -14,9 +14,6 @@
    schedule, the line as built, and every sized span's built pre-sag against its own tolerance: a
    span is flagged (:func:`span_flag`) where it lies outside it, or closer to an end than the crew's
    build tolerance.
-
-The answer's tables (:meth:`LineAnswer.table`, as data frames :meth:`LineAnswer.to_frame`) are the rows
-of ``droppers.csv`` and ``spans.csv`` (:func:`dropper_rows`, :func:`span_rows`), in table units.
 """
 
 from __future__ import annotations
@@ -27,14 +24,18 @@ from pathlib import Path
 
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.decision import Decision, decide
-from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, check_uplift_limit, crew_tolerance
+from presag_opt.design.evidence import (
+    DynamicUpliftCheck,
+    Evidence,
+    InstallationTolerance,
+    check_uplift_limit,
+    crew_tolerance,
+)
 from presag_opt.design.line import LineOptions, build_line, size_line
-from presag_opt.design.line_results import LineDesign, LineSizing, SpanDesign
+from presag_opt.design.line_results import LineDesign, LineSizing, RoundingEffect, SpanDesign
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
-from presag_opt.display import data_frame, html_summary
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
-from presag_opt.errors import ModelError
-from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, JOB_OPTIONS, DynamicOptions
+from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
 from presag_opt.pipeline.validity import ValidityRange, stored_sweep
 from presag_opt.robust.dynamic_check import DynamicCheck, dynamic_check, window_settings
 from presag_opt.robust.dynamic_design import DynamicObjective
@@ -157,104 +158,6 @@ class LineAnswer:
         """
         return [self.headline(), *self.decision.lines(options, [s.length for s in self.design.spans])[1:]]
 
-    def table(self, name: str = "spans") -> list[dict]:
-        """A table as rows: ``spans`` or ``droppers`` (the rows of ``spans.csv`` and ``droppers.csv``) or
-        ``answers`` (the decision's).
-
-        Parameters
-        ----------
-        name : {"spans", "droppers", "answers"}
-            The table.
-        """
-        tables = {"spans": lambda: span_rows(self), "droppers": lambda: dropper_rows(self.design),
-                  "answers": self.decision.table}
-        if name not in tables:
-            raise ModelError(f"table = {name!r} is not one of {', '.join(tables)}")
-        return tables[name]()
-
-    def to_frame(self, name: str = "spans"):
-        """:meth:`table` as a pandas DataFrame.
-
-        Parameters
-        ----------
-        name : {"spans", "droppers", "answers"}
-            The table.
-        """
-        return data_frame(self.table(name))
-
-    def _repr_html_(self) -> str:
-        def low_high(row: dict) -> str:
-            low, high = row["presag_tolerance_low_mm"], row["presag_tolerance_high_mm"]
-            return "" if low == "" else f"{low:.1f}–{high:.1f}"
-
-        return html_summary(self.headline(), self.lines(JOB_OPTIONS)[1:],
-                            [{"section": r["section"], "span": f"{r['from_mast']}–{r['to_mast']}", "l [m]": r["length_m"],
-                              "S built [mm]": r["presag_mm"], "own tolerance [mm]": low_high(r), "flag": r["flag"]}
-                             for r in self.table("spans")])
-
-
-DROPPER_COLUMNS = ("section", "span", "from_mast", "to_mast", "dropper", "x_from_mast_m", "dropper_length_mm",
-                   "contact_wire_height_mm", "presag_mm")
-"""Columns of ``droppers.csv``."""
-
-SPAN_COLUMNS = ("section", "span", "from_mast", "to_mast", "length_m", "presag_mm", "presag_rel_permille",
-                "e_mid_mm_per_N", "e_mast_mm_per_N", "delta_e_mm_per_N", "steady_arm_pull_N", "static_uplift_mm",
-                "robust_presag_mm", "presag_tolerance_low_mm", "presag_tolerance_high_mm", "margin_low_mm",
-                "margin_high_mm", "flag", "note")
-"""Columns of ``spans.csv``: steady-arm pull and static uplift at ``from_mast`` (empty where it is the
-section's termination, which has no steady arm); the span's own quasi-static robust pre-sag and
-tolerance interval on the built geometry, the built pre-sag's margin to each end (negative: outside)
-and its flag (:data:`presag_opt.pipeline.line.SPAN_FLAGS`); why a span is not sized (empty for an end span's
-tolerance columns)."""
-
-STITCH_COLUMNS = ("hangs_from",)
-"""Column ``droppers.csv`` adds on a line with stitched supports: ``messenger`` or ``stitch wire`` (a stitch
-dropper's cut length is between the stitch-wire and contact-wire clamp points)."""
-
-
-def dropper_columns(design: LineDesign) -> tuple[str, ...]:
-    """Columns of ``droppers.csv`` for this design (:data:`DROPPER_COLUMNS`, and where a dropper hangs from on
-    a line with stitch droppers)."""
-    return DROPPER_COLUMNS + (STITCH_COLUMNS if _stitched(design) else ())
-
-
-def _stitched(design: LineDesign) -> bool:
-    return any(getattr(d, "stitch", False) for d in design.droppers)
-
-
-def dropper_rows(design: LineDesign) -> list[dict[str, object]]:
-    """The dropper schedule as table rows (lengths and heights rounded to 0.1 mm)."""
-    stitched = _stitched(design)
-    return [{"section": d.section, "span": d.span, "from_mast": d.from_mast, "to_mast": d.to_mast, "dropper": d.dropper,
-             "x_from_mast_m": round(d.position, 3), "dropper_length_mm": round(d.length * 1e3, 1),
-             "contact_wire_height_mm": round(d.contact_wire_height * 1e3, 1), "presag_mm": round(d.presag * 1e3, 1),
-             **({"hangs_from": "stitch wire" if d.stitch else "messenger"} if stitched else {})}
-            for d in design.droppers]
-
-
-def _mm(value: float | None, digits: int = 1) -> object:
-    return "" if value is None else round(value * 1e3, digits)
-
-
-def span_rows(answer: LineAnswer) -> list[dict[str, object]]:
-    """The span table as rows (mm, m, N, mm/N, ‰)."""
-    rows = []
-    for s in answer.design.spans:
-        margins = s.margins() or (None, None)
-        rows.append({
-            "section": s.section, "span": s.span, "from_mast": s.from_mast, "to_mast": s.to_mast,
-            "length_m": round(s.length, 3), "presag_mm": round(s.presag * 1e3, 1),
-            "presag_rel_permille": round(s.presag / s.length * 1e3, 4), "e_mid_mm_per_N": round(s.e_mid * 1e3, 4),
-            "e_mast_mm_per_N": round(s.e_mast * 1e3, 4), "delta_e_mm_per_N": round(s.delta_e * 1e3, 4),
-            "steady_arm_pull_N": "" if s.steady_arm_force is None else round(s.steady_arm_force, 1),
-            "static_uplift_mm": _mm(s.static_uplift), "robust_presag_mm": _mm(s.robust_presag),
-            "presag_tolerance_low_mm": _mm(None if s.tolerance is None else s.tolerance[0]),
-            "presag_tolerance_high_mm": _mm(None if s.tolerance is None else s.tolerance[1]),
-            "margin_low_mm": _mm(margins[0]), "margin_high_mm": _mm(margins[1]), "flag": answer.flag(s),
-            "note": s.note,
-        })
-    return rows
-
 
 def span_flag(span: SpanDesign, crew: float) -> str:
     """How a span's built pre-sag sits in its own tolerance (one of :data:`SPAN_FLAGS`).
@@ -271,6 +174,34 @@ def span_flag(span: SpanDesign, crew: float) -> str:
         return SPAN_FLAGS[0]
     smallest = min(margins)
     return SPAN_FLAGS[2] if smallest < 0 else SPAN_FLAGS[1] if smallest < crew else SPAN_FLAGS[0]
+
+
+def with_rounding(crew: InstallationTolerance,
+                  rounding: Sequence[tuple[str, RoundingEffect]]) -> InstallationTolerance:
+    """The crew tolerance a decision uses when the cut lengths are rounded: never below what rounding alone
+    causes (the largest P95 mid-span pre-sag error of the sections' rounding Monte Carlo).
+
+    The crew's figure (or the assumed one) stands where it is at least that; otherwise rounding sets the
+    tolerance, and its source says so.
+
+    Parameters
+    ----------
+    crew : InstallationTolerance
+        The crew's tolerance as set or assumed.
+    rounding : sequence of (str, RoundingEffect)
+        Each section's rounding effect (:meth:`~presag_opt.design.line_results.LineSizing.rounding`).
+    """
+    if not rounding:
+        return crew
+    section, worst = max(rounding, key=lambda item: item[1].presag_error_p95)
+    if crew.half_width >= worst.presag_error_p95:
+        return crew
+    step = worst.step * 1e3
+    return InstallationTolerance(
+        half_width=worst.presag_error_p95, kind="monte-carlo",
+        source=f"P95 of the mid-span pre-sag error from rounding the cut lengths to {step:g} mm (uniform ±{step / 2:g} "
+               f"mm on every dropper, {worst.samples} Monte Carlo builds, section {section}), more than the crew's "
+               f"±{crew.half_width * 1e3:.1f} mm ({crew.source})")
 
 
 def line_dynamic_check(sizing: LineSizing, presags: Sequence[float], pantograph: Pantograph,
@@ -352,7 +283,9 @@ def answer_line(
         pantograph = source if isinstance(source, Pantograph) else load_pantograph(source)
     # a stored study is read before any form-finding: a missing or foreign store fails at once
     validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
-    sizing = size_line(survey, base, band, options, progress=progress, span_rule=RobustSpanRule(within=within))
+    sizing = size_line(survey, base, band, options, progress=progress,
+                       span_rule=RobustSpanRule(within=within, round_step=options.round_step))
+    installation = with_rounding(installation, sizing.rounding())
     delta_e = sizing.delta_e()
     quasi = sizing.quasi_static_robust(within)
     worst = sizing.sizing[sizing.worst_section()].catenary

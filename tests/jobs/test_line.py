@@ -13,7 +13,7 @@ from presag_opt import design_line
 from presag_opt.cli import line
 from presag_opt.cli.decision_options import decision_keywords
 from presag_opt.errors import ModelError
-from presag_opt.pipeline.line import dropper_rows, span_rows
+from presag_opt.report.line_report import dropper_rows, span_rows
 from presag_opt.system.survey import survey_from_rows
 
 ROWS = [(f"row {i}", {"mast": f"M{i}", "chainage_m": 50.0 * i, "stagger_mm": 300 if i % 2 else -300,
@@ -52,5 +52,5 @@ def test_a_line_design_shows_its_headline_and_spans_and_gives_its_tables():
     assert droppers.to_dict("records") == dropper_rows(answer.design)
     assert len(droppers) == len(answer.design.droppers) > 0
     assert list(answer.to_frame("answers")["method"]) == [a.method for a in answer.decision.answers]
-    with pytest.raises(ModelError, match="table = 'layouts' is not one of spans, droppers, answers"):
+    with pytest.raises(ModelError, match="table = .layouts. is not one of spans, droppers, rounding, answers"):
         answer.table("layouts")
