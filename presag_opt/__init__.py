@@ -1,6 +1,8 @@
 """presag_opt: pre-sag design for simple railway overhead contact lines.
 
-The public API by name, from every layer: system models (:mod:`presag_opt.system`), the static model
+The jobs first, one call each, as the command line runs them (:mod:`presag_opt.jobs`): ``recommend``,
+``robust_design``, ``dynamic_robust_design``, ``design_line``, ``sensitivity_study``, ``tolerance``,
+``validity`` and ``simulate``, in the designer's units (km/h, mm, %, N/(km/h)²). Then the public API by name, from every layer: system models (:mod:`presag_opt.system`), the static model
 (:mod:`presag_opt.static`), elasticity (:mod:`presag_opt.elasticity`), pre-sag design
 (:mod:`presag_opt.design`), robust design (:mod:`presag_opt.robust`) and validation against published
 results (:mod:`presag_opt.validation`); the dynamic simulation is used from :mod:`presag_opt.dynamics`.
@@ -17,6 +19,22 @@ from presag_opt.version import VERSION
 __version__ = VERSION
 
 _API = {
+    "presag_opt.jobs": (
+        "design_line", "dynamic_robust_design", "recommend", "robust_design", "sensitivity_study", "simulate",
+        "tolerance", "validity",
+    ),
+    "presag_opt.pipeline.band": (
+        "BandAnswer",
+    ),
+    "presag_opt.pipeline.line": (
+        "LineAnswer",
+    ),
+    "presag_opt.design.decision": (
+        "Decision",
+    ),
+    "presag_opt.system.survey": (
+        "Survey", "load_survey",
+    ),
     "presag_opt.errors": (
         "ConvergenceError", "ModelError",
     ),
@@ -53,7 +71,7 @@ _API = {
         "check_levels_cover", "check_method", "default_spans", "elasticity_difference",
         "force_levels_for_band", "interpolate_elasticity", "layout_kind", "layout_recommendation",
         "mean_contact_force", "mean_force_grid", "mid_span_elasticity_empirical", "presag_quasi_static",
-        "recommend", "section_elasticity", "speed_context", "tension_label",
+        "section_elasticity", "speed_context", "tension_label",
     ),
     "presag_opt.robust": (
         "SHAPES", "BandEvaluation", "BandEvaluator", "BandStatistics", "Buildability", "DynamicCheck",

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 
 def mean_force(static_force, speed, aero_coefficient):
-    """Mean contact force F_m = F_stat + α_ae v² (numbers or arrays; no validation here). [N]
+    r"""Mean contact force F_m = F_stat + α_ae v² (numbers or arrays; no validation here). [N]
 
     Parameters
     ----------
@@ -25,5 +25,22 @@ def mean_force(static_force, speed, aero_coefficient):
         Train speed v. [m/s]
     aero_coefficient : float or ndarray
         Aerodynamic uplift coefficient α_ae. [N/(m/s)²]
+
+    Notes
+    -----
+    The pantograph's static uplift plus its aerodynamic lift, quadratic in the speed (eq. 4):
+
+    .. math::
+
+        F_m = F_{stat} + \alpha_{ae} v^2
+
+    Examples
+    --------
+    The case study's top of band, 140 N at 90 km/h with α_ae = 0.00097 N/(km/h)²:
+
+    >>> from presag_opt.contact_force import mean_force
+    >>> from presag_opt.units import KMH
+    >>> round(mean_force(140.0, 90 * KMH, 0.00097 / KMH**2), 3)
+    147.857
     """
     return static_force + aero_coefficient * (speed * speed)

@@ -5,7 +5,7 @@ module that imports it, ``:func:`presag_opt.design.recommend``` by the path it i
 ``:attr:`settings``` for a field of the class being described. Sphinx resolves a reference only by its
 full dotted name from the current module; this handler, on Sphinx's ``missing-reference`` event, tries
 in order: the object the dotted name imports to (re-exports); a unique documented object whose name
-ends with the reference; a field of a documented dataclass (``Class.field``, or ``field`` of the class
+ends with the reference (of several, the one nearest the referring module); a field of a documented dataclass (``Class.field``, or ``field`` of the class
 being described), linked to its class. A reference none of these finds stays a warning, which the
 nitpicky build turns into an error. A reference to a private name (leading underscore) is left as
 code: private names are not documented.
@@ -72,6 +72,23 @@ def _holder(objects: dict, target: str, context_class: str | None, module: str |
     return None
 
 
+def _nearest(matches: list[str], module: str) -> str | None:
+    """Of several documented objects of one name, the one nearest the referring module (the most leading
+    dotted parts in common), if only one is nearest: ``simulate`` from ``presag_opt.dynamics.results`` is
+    :func:`presag_opt.dynamics.simulate.simulate`, from ``presag_opt.jobs`` the job."""
+    def shared(name: str) -> int:
+        count = 0
+        for a, b in zip(name.split("."), module.split(".")):
+            if a != b:
+                break
+            count += 1
+        return count
+
+    best = max((shared(m) for m in matches), default=0)
+    nearest = [m for m in matches if shared(m) == best]
+    return nearest[0] if len(nearest) == 1 else None
+
+
 def resolve(app, env, node: pending_xref, contnode: nodes.Element):
     if node.get("refdomain") != "py":
         return None
@@ -85,7 +102,7 @@ def resolve(app, env, node: pending_xref, contnode: nodes.Element):
         kinds = set(domain.objtypes_for_role(node["reftype"]) or ())
         matches = [name for name, entry in objects.items()
                    if (name == target or name.endswith("." + target)) and (not kinds or entry.objtype in kinds)]
-        found = matches[0] if len(matches) == 1 else None
+        found = matches[0] if len(matches) == 1 else _nearest(matches, node.get("py:module") or "")
     if found is None:
         found = _field_owner(objects, target, node.get("py:class"), node.get("py:module"))
     if found is None:

@@ -18,27 +18,20 @@ kind of evidence comes from the command's own map.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from collections.abc import Mapping
 
 from presag_opt.cli.common import band, positive_float
 from presag_opt.design.band import CASE_STUDY_BAND, OperatingBand
 from presag_opt.design.evidence import CREW_TOLERANCE
-from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT
 from presag_opt.errors import ModelError
+from presag_opt.jobs import band as band_job
+from presag_opt.jobs.options import ELEMENT_LENGTH, UPLIFT_LIMIT_MM, WITHIN_PERCENT, WORKERS
 from presag_opt.units import KMH
 
-ELEMENT_LENGTH = 0.5
-"""Default longest element of the static model, every command: the paper's 0.5 m. [m]"""
-
-WORKERS = min(64, os.cpu_count() or 1)
-"""Default local worker processes, every command: the CPU count (each job starts no more processes than
-it has work for side by side). [-]"""
-
 CASE_STATIC_FORCE = (CASE_STUDY_BAND.static_force_low, CASE_STUDY_BAND.static_force_high)
-CASE_SPEED = (CASE_STUDY_BAND.speed_low / KMH, CASE_STUDY_BAND.speed_high / KMH)
-CASE_AERO = CASE_STUDY_BAND.aero_coefficient * KMH**2
+CASE_SPEED = CASE_STUDY_BAND.speed_kmh
+CASE_AERO = CASE_STUDY_BAND.aero_coefficient_kmh
 """The case study's band in the command line's units: F_stat [N], speeds [km/h], α_ae [N/(km/h)²]."""
 
 AERO_METAVAR = "N/(KMH)^2"
@@ -64,9 +57,8 @@ def add_band_options(parser: argparse.ArgumentParser) -> None:
 
 def operating_band(args: argparse.Namespace) -> OperatingBand:
     """The band from the command-line options (validated by :class:`~presag_opt.design.band.OperatingBand`)."""
-    low, high = args.static_force
-    return OperatingBand(static_force_low=low, static_force_high=high, speed_low=args.min_speed * KMH,
-                         speed_high=args.max_speed * KMH, aero_coefficient=args.aero / KMH**2)
+    return OperatingBand.from_kmh(static_force=args.static_force, speed_kmh=(args.min_speed, args.max_speed),
+                                  aero_coefficient_kmh=args.aero)
 
 
 def check_band_speed(args: argparse.Namespace, models: list) -> None:
@@ -80,22 +72,20 @@ def check_band_speed(args: argparse.Namespace, models: list) -> None:
     models : list of Catenary or str
         The catenaries the band is designed on, or their model names or paths.
     """
-    from presag_opt.speed import check_speed_limit
-    from presag_opt.system.loader import load_catenary
+    band_job.check_band_speed(operating_band(args), models, args.allow_supercritical, accept="--allow-supercritical")
 
-    if args.allow_supercritical:
-        return
-    for model in models:
-        catenary = load_catenary(model) if isinstance(model, str) else model
-        check_speed_limit(args.max_speed * KMH, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
+
+def within_percent(text: str) -> float:
+    """``10`` or ``10%`` -> 10 (percent); the range is the API's to check."""
+    try:
+        return float(str(text).strip().removesuffix("%").strip())
+    except ValueError:
+        raise ModelError(f"--within = {text!r}: write a percentage such as 10 (or 10%)") from None
 
 
 def parse_within(text: str) -> float:
     """``10`` or ``10%`` (percent) -> 0.1; the range is the API's to check."""
-    try:
-        return float(str(text).strip().removesuffix("%").strip()) / 100.0
-    except ValueError:
-        raise ModelError(f"--within = {text!r}: write a percentage such as 10 (or 10%)") from None
+    return within_percent(text) / 100.0
 
 
 def add_decision_options(parser: argparse.ArgumentParser, *, simulated: str, dynamic_robust: bool = True,
@@ -114,10 +104,10 @@ def add_decision_options(parser: argparse.ArgumentParser, *, simulated: str, dyn
         Offer ``--dropper-error``.
     """
     g = parser.add_argument_group("decision")
-    g.add_argument("--within", default="10", metavar="PERCENT",
-                   help="allowed loss of the tolerance intervals in %%, e.g. 10 or 10%% (default 10)")
-    g.add_argument("--uplift-limit", metavar="MM", type=positive_float, default=STEADY_ARM_UPLIFT_LIMIT * 1e3,
-                   help=f"steady-arm uplift limit in mm (default {STEADY_ARM_UPLIFT_LIMIT * 1e3:g}, the case study's "
+    g.add_argument("--within", default=f"{WITHIN_PERCENT:g}", metavar="PERCENT",
+                   help=f"allowed loss of the tolerance intervals in %%, e.g. 10 or 10%% (default {WITHIN_PERCENT:g})")
+    g.add_argument("--uplift-limit", metavar="MM", type=positive_float, default=UPLIFT_LIMIT_MM,
+                   help=f"steady-arm uplift limit in mm (default {UPLIFT_LIMIT_MM:g}, the case study's "
                         "arms without uplift stop)")
     g.add_argument("--crew-tolerance", metavar="MM", type=positive_float, default=None,
                    help=f"the crew's build tolerance of the mid-span pre-sag, ± in mm (default {CREW_TOLERANCE * 1e3:g}, "
@@ -180,21 +170,19 @@ def workers_of(args: argparse.Namespace) -> int:
     return workers
 
 
-def decision_settings(args: argparse.Namespace) -> dict:
-    """The pipeline's keyword arguments from the decision options (lengths in m, shares)."""
-    from presag_opt.robust.installation import InstallationErrors
-
+def decision_keywords(args: argparse.Namespace) -> dict:
+    """The jobs' keyword arguments of the decision from its options (mm, %; :mod:`presag_opt.jobs`)."""
     crew = getattr(args, "crew_tolerance", None)
     error = getattr(args, "dropper_error", None)
     if crew is not None and error is not None:
         raise ModelError("give --crew-tolerance or --dropper-error, not both")
-    return {
-        "within": parse_within(args.within),
-        "uplift_limit": args.uplift_limit * 1e-3,
-        "crew": None if crew is None else crew * 1e-3,
-        "installation_errors": None if error is None else InstallationErrors(dropper_length=error * 1e-3),
-        "study": args.study,
-    }
+    return {"within_percent": within_percent(args.within), "uplift_limit_mm": args.uplift_limit,
+            "crew_tolerance_mm": crew, "dropper_error_mm": error, "study": args.study}
+
+
+def decision_settings(args: argparse.Namespace) -> dict:
+    """The pipeline's keyword arguments from the decision options (lengths in m, shares)."""
+    return band_job.decision_settings(**decision_keywords(args))
 
 
 def announce_dynamic(args: argparse.Namespace, catenary, band, pantograph, where: str) -> None:

@@ -23,11 +23,12 @@ from presag_opt.cli.decision_options import (
     announce_dynamic,
     check_band_speed,
     decision_json,
-    decision_settings,
+    decision_keywords,
     operating_band,
     print_decision,
     workers_of,
 )
+from presag_opt.jobs.options import LINE_ELASTICITY_STEP, WORKING_WIDTH_MM
 from presag_opt.system.dropper_type import DEFAULT_DROPPER_TYPE
 
 
@@ -58,11 +59,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="pre-sag per span: S = S_rel·l with the line's S_rel (default, Swedish practice); each "
                         "span's own quasi-static S_rel; or each span's own quasi-static robust parabola (minimax "
                         "waviness over the F_m band, below the line between its supports)")
-    p.add_argument("--working-width", metavar="MM", type=float, default=400.0,
-                   help="half working width of the pantograph: largest stagger accepted, in mm (default 400)")
+    p.add_argument("--working-width", metavar="MM", type=float, default=WORKING_WIDTH_MM,
+                   help=f"half working width of the pantograph: largest stagger accepted, in mm (default "
+                        f"{WORKING_WIDTH_MM:g})")
     add_numerics_options(p)
-    p.add_argument("--step", metavar="M", type=float, default=1.0,
-                   help="point spacing of the elasticity curves in m (default 1.0)")
+    p.add_argument("--step", metavar="M", type=float, default=LINE_ELASTICITY_STEP,
+                   help=f"point spacing of the elasticity curves in m (default {LINE_ELASTICITY_STEP:.1f})")
     p.add_argument("--dynamic-check", action="store_true",
                    help="also simulate the band's worst points (top speed, lowest and highest static force) on the "
                         "section with the largest static uplift, as built")
@@ -85,50 +87,48 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def design_command(args: argparse.Namespace) -> int:
     """Handler of ``presag design``."""
-    from presag_opt.design.line import LineOptions
     from presag_opt.system.dropper_type import check_step, load_dropper_type
     from presag_opt.system.loader import load_catenary
     from presag_opt.system.survey import load_survey
 
-    round_step = check_step(args.round * 1e-3)
+    check_step(args.round * 1e-3)
     dropper_type = load_dropper_type(args.dropper_type)
     survey = load_survey(args.survey, working_width=args.working_width * 1e-3)
     base = load_catenary(args.system)
     band = operating_band(args)
     check_band_speed(args, [base])
-    options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=workers_of(args),
-                          round_step=round_step, dropper_type=dropper_type)
-    settings = decision_settings(args)
+    settings = decision_keywords(args)
+    settings.pop("dropper_error_mm")  # not offered: a line's crew tolerance is given, assumed or from rounding
     created = not Path(args.out).exists()
     folder = output_folder(args.out)
     try:
-        return _design(args, survey, base, band, options, settings, dropper_type, folder)
+        return _design(args, survey, base, band, settings, dropper_type, folder)
     except BaseException:
         if created:  # a failed run leaves no folder behind that it made
             shutil.rmtree(folder, ignore_errors=True)
         raise
 
 
-def _design(args, survey, base, band, options, settings, dropper_type, folder) -> int:
+def _design(args, survey, base, band, settings, dropper_type, folder) -> int:
     """The work of ``presag design`` once its input is read and checked (see :func:`design_command`)."""
     import warnings
 
     from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
-    from presag_opt.pipeline.line import answer_line
+    from presag_opt.jobs import design_line
+    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH
     from presag_opt.report.line_report import LINE_OPTIONS, write_line_outputs
 
-    round_step = options.round_step
-    dynamic = None
+    round_step = args.round * 1e-3
     if args.dynamic_robust:
-        dynamic = DynamicOptions(workers=workers_of(args))
         announce_dynamic(args, base, band, load_pantograph(CASE_STUDY_PANTOGRAPH), "the line's worst section")
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
-        answer = answer_line(survey, base, band, options=options, within=settings["within"],
-                             uplift_limit=settings["uplift_limit"], crew=settings["crew"], study=settings["study"],
-                             check=args.dynamic_check, dynamic=dynamic, progress=report)
+        # the band's speed was checked above, naming this command's option
+        answer = design_line(survey, base, band, rule=args.rule, dynamic_check=args.dynamic_check,
+                             dynamic_robust=args.dynamic_robust, round_mm=args.round, dropper_type=dropper_type,
+                             step=args.step, element_length=args.element_length, workers=workers_of(args),
+                             allow_supercritical=True, progress=report, **settings)
         paths = write_line_outputs(answer, folder, xlsx=args.xlsx, dxf=args.dxf)
     seconds = time.perf_counter() - start
     print_warnings(str(w.message) for w in caught)

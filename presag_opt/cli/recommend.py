@@ -24,7 +24,7 @@ from presag_opt.cli.decision_options import (
     announce_dynamic,
     check_band_speed,
     decision_json,
-    decision_settings,
+    decision_keywords,
     operating_band,
     print_decision,
     workers_of,
@@ -39,6 +39,7 @@ from presag_opt.design import (
     Recommendation,
 )
 from presag_opt.errors import ModelError
+from presag_opt.jobs.options import ELASTICITY_STEP
 from presag_opt.system.loader import load_catenary
 from presag_opt.validation import compare_with_paper
 
@@ -82,8 +83,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help=f"quasi-static variant: {' or '.join(PRESAG_METHODS)} (default delta-e)")
     p.add_argument("--force-levels", metavar="N,N,...", type=float_list, default=None,
                    help="elasticity force levels in N (default: 50 N steps around the band)")
-    p.add_argument("--step", metavar="M", type=positive_float, default=0.5,
-                   help="point spacing of the elasticity curves in m (default 0.5)")
+    p.add_argument("--step", metavar="M", type=positive_float, default=ELASTICITY_STEP,
+                   help=f"point spacing of the elasticity curves in m (default {ELASTICITY_STEP:g})")
     p.add_argument("--elasticity-method", metavar="{active-set,newton}", default="active-set",
                    help="nonlinear elasticity: active-set (default, fast) or newton")
     add_numerics_options(p)
@@ -145,27 +146,30 @@ def empirical_command(args: argparse.Namespace) -> int:
 def recommend_command(args: argparse.Namespace) -> int:
     """``presag recommend``: the band's decision, the Δe rule's layouts, optionally compared and plotted."""
     from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions, StaticNumerics, answer_band
+    from presag_opt.jobs import recommend
+    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH
+    from presag_opt.static.discretisation import StaticSettings
 
     plots = plot_folder(args)
     models = [m.strip() for m in args.models.split(",") if m.strip()]
     band = operating_band(args)
     check_band_speed(args, models)
-    settings = decision_settings(args)
-    numerics = StaticNumerics(element_length=args.element_length, step=args.step,
-                              elasticity_method=args.elasticity_method,
-                              force_levels=None if args.force_levels is None else tuple(args.force_levels))
-    dynamic = DynamicOptions(workers=workers_of(args)) if args.dynamic_robust else None
-    if dynamic is not None:
+    keywords = decision_keywords(args)
+    workers = workers_of(args)
+    if args.dynamic_robust:
         announce_dynamic(args, load_catenary(models[0]), band, load_pantograph(CASE_STUDY_PANTOGRAPH), models[0])
     with warnings.catch_warnings(record=True) as caught, progress(args) as report:
         warnings.simplefilter("always")
-        answer = answer_band(models, band, method=args.method, numerics=numerics, recompute=args.recompute,
-                             dynamic=dynamic, span_length=args.span_length, progress=report, **settings)
+        # the band's speed was checked above, naming this command's option
+        answer = recommend(models, band, dynamic_robust=args.dynamic_robust, method=args.method,
+                           force_levels=args.force_levels, step=args.step, elasticity_method=args.elasticity_method,
+                           element_length=args.element_length, workers=workers, span_length=args.span_length,
+                           recompute=args.recompute, allow_supercritical=True, progress=report, **keywords)
         comparison = None
         if args.compare_paper:
             comparison = compare_with_paper(answer.recommendation, step=args.step,
-                                            elasticity_method=args.elasticity_method, settings=numerics.settings,
+                                            elasticity_method=args.elasticity_method,
+                                            settings=StaticSettings(element_length=args.element_length),
                                             progress=report)
     print_warnings(str(w.message) for w in caught)
     written = []

@@ -30,20 +30,20 @@ from presag_opt.cli.decision_options import (
     add_numerics_options,
     check_band_speed,
     decision_json,
-    decision_settings,
+    decision_keywords,
     operating_band,
     parse_within,
     print_decision,
     workers_of,
 )
 from presag_opt.errors import ModelError
+from presag_opt.jobs.options import DROPPER_STEP_MM, ROBUST_MODEL
 from presag_opt.robust.dynamic_check import window_settings
 from presag_opt.speed import check_speed_limit
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.stitch import stitch_summary
 from presag_opt.units import KMH
 
-DEFAULT_MODEL = "st_9.8_ideal"
 DYNAMIC_DEFAULTS = {
     "objective": "sigma-over-fm",
     "pantograph": "case_study_2mass_friction",
@@ -69,7 +69,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         ("tolerance", "installation tolerance: the pre-sag interval within a loss of the robust optimum"),
     ):
         p = subparsers.add_parser(name, help=helptext, description=f"{helptext[0].upper()}{helptext[1:]}.")
-        p.add_argument("model", nargs="?", default=DEFAULT_MODEL, help=model_help("catenaries", DEFAULT_MODEL))
+        p.add_argument("model", nargs="?", default=ROBUST_MODEL, help=model_help("catenaries", ROBUST_MODEL))
         add_band_options(p)
         add_numerics_options(p)
         add_plot_option(p, "R against S over the band" + (" (with --dynamic: the objective against S)"
@@ -83,7 +83,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             p.add_argument("--risk", metavar="MEASURE", default="minimax",
                            help="minimax (default), mean, or cvar:LEVEL such as cvar:0.9")
             p.add_argument("--step-mm", metavar="MM", type=float, default=None,
-                           help="construction step of per-dropper heights in mm (default 5)")
+                           help=f"construction step of per-dropper heights in mm (default {DROPPER_STEP_MM:g})")
             p.add_argument("--asymmetric", action="store_true", help="allow per-dropper profiles that are not symmetric")
             _add_check_options(p)
             _add_dynamic_options(p)
@@ -160,18 +160,17 @@ def _study(args: argparse.Namespace, catenary=None, **kwargs):
 def robust_command(args: argparse.Namespace) -> int:
     """``presag robust``: the band's decision with the quasi-static robust design (or, with ``--dynamic``,
     the dynamic one)."""
-    from presag_opt.pipeline.band import StaticNumerics, answer_band
-    from presag_opt.robust import Buildability, Risk
+    from presag_opt.jobs import robust_design
+    from presag_opt.robust import Risk
 
-    risk = Risk.parse(args.risk)
+    Risk.parse(args.risk)  # a bad measure is refused before any work
     for name in DYNAMIC_DEFAULTS:
         _dynamic_option(args, name)
     if args.dynamic:
-        return _dynamic_command(args, risk)
+        return _dynamic_command(args)
     if args.check_forces is not None and args.check_speeds is None:
         raise ModelError("--check-forces sets the static forces of the dynamic check; add --check-speeds")
-    step = 5.0 if args.step_mm is None else args.step_mm
-    build = Buildability(step=step * 1e-3, symmetric=not args.asymmetric) if args.shape == "per-dropper" else None
+    step = {} if args.step_mm is None else {"step_mm": args.step_mm}
     pantograph = _check_pantograph(args)
     catenary = load_catenary(args.model)
     band = operating_band(args)
@@ -187,9 +186,9 @@ def robust_command(args: argparse.Namespace) -> int:
                 check_speed_limit(speed * KMH, catenary.contact_wire.wave_speed, accept="--allow-supercritical")
     plots = plot_folder(args)
     with progress(args) as report:
-        answer = answer_band([catenary], band, shape=args.shape, risk=risk, buildability=build,
-                             numerics=StaticNumerics(element_length=args.element_length), progress=report,
-                             **decision_settings(args))
+        answer = robust_design(catenary, band, shape=args.shape, risk=args.risk, asymmetric=args.asymmetric,
+                        element_length=args.element_length, allow_supercritical=True, progress=report, **step,
+                        **decision_keywords(args))
     study = answer.robust
     if plots:
         from presag_opt.plotting import plot_waviness
@@ -302,10 +301,11 @@ def tolerance_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def _dynamic_command(args: argparse.Namespace, risk) -> int:
+def _dynamic_command(args: argparse.Namespace) -> int:
     """``presag robust --dynamic``: the band's decision with the dynamic robust design, and the three
     methods compared by simulation."""
-    from presag_opt.pipeline.band import DynamicOptions, StaticNumerics, answer_band
+    from presag_opt.jobs import dynamic_robust_design
+    from presag_opt.robust import Risk
 
     for option, given in (("--step-mm", args.step_mm is not None), ("--asymmetric", args.asymmetric),
                           ("--shape per-dropper", args.shape != "parabola"),
@@ -322,22 +322,22 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     plots = plot_folder(args)
     catenary = load_catenary(args.model)
     check_band_speed(args, [catenary])
-    settings = decision_settings(args)
+    keywords = decision_keywords(args)
     names = [n.strip() for n in _dynamic_option(args, "pantograph").split(",")]
     if len(names) > 1 or args.fleet_shares is not None or args.second_pantograph_at is not None:
         if plots:
             raise ModelError("--plot is not drawn for a fleet design; drop it")
-        return _fleet_command(args, catenary, names, band, risk, settings, points)
+        return _fleet_command(args, catenary, names, band, Risk.parse(args.risk), keywords, points)
     from presag_opt.cli.decision_options import announce_dynamic
     from presag_opt.dynamics.pantograph import load_pantograph
 
     pantograph = load_pantograph(names[0])
     announce_dynamic(args, catenary, band, pantograph, catenary.name)
-    dynamic = DynamicOptions(pantograph=pantograph, objective=_dynamic_option(args, "objective"), risk=risk,
-                             static_points=int(points[0]), speed_points=int(points[1]), workers=workers_of(args))
     with progress(args) as report:
-        answer = answer_band([catenary], band, numerics=StaticNumerics(element_length=args.element_length),
-                             dynamic=dynamic, progress=report, **settings)
+        answer = dynamic_robust_design(catenary, band, pantograph=pantograph, objective=_dynamic_option(args, "objective"),
+                                risk=args.risk, grid_points=(int(points[0]), int(points[1])),
+                                element_length=args.element_length, workers=workers_of(args),
+                                allow_supercritical=True, progress=report, **keywords)
     study = answer.dynamic
     written = None
     if plots:
@@ -353,7 +353,7 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     print_decision(answer.decision.lines(ROBUST_OPTIONS))
     loss = "σ/F_m" if data["objective_name"] == "sigma-over-fm" else "σ [N]"
     fmt = "{:.4f}" if data["objective_name"] == "sigma-over-fm" else "{:.2f}"
-    within = settings["within"]
+    within = keywords["within_percent"] / 100.0
     print(f"Dynamic robust pre-sag: {study.where()}")
     print(f"system: {data['system']}")
     beta_low, beta_high = data["beta"]
@@ -373,7 +373,7 @@ def _dynamic_command(args: argparse.Namespace, risk) -> int:
     return 0
 
 
-def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, risk, settings: dict,
+def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, risk, keywords: dict,
                    points) -> int:
     """``presag robust --dynamic --pantograph A,B,...``: the fleet design beside each type's own optimum (a
     fleet design is not yet evidence of the band's decision: it prints no decision)."""
@@ -383,8 +383,8 @@ def _fleet_command(args: argparse.Namespace, catenary, names: list[str], band, r
     from presag_opt.robust.fleet import fleet_robust_study
 
     objective = DynamicObjective(loss=_dynamic_option(args, "objective"), risk=risk,
-                                 uplift_limit=settings["uplift_limit"])
-    within = settings["within"]
+                                 uplift_limit=keywords["uplift_limit_mm"] * 1e-3)
+    within = keywords["within_percent"] / 100.0
 
     shares = args.fleet_shares
     if shares is not None:

@@ -14,8 +14,7 @@ from presag_opt.cli.common import (
     table,
 )
 from presag_opt.cli.decision_options import add_workers_option, workers_of
-
-DEFAULT_CASE = "case_study_st98"
+from presag_opt.jobs.studies import SENSITIVITY_CASE
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -34,7 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "sample one design at screening numerics)."
         ),
     )
-    p.add_argument("case", nargs="?", default=DEFAULT_CASE, help=f"case file or built-in name (default {DEFAULT_CASE})")
+    p.add_argument("case", nargs="?", default=SENSITIVITY_CASE, help=f"case file or built-in name (default {SENSITIVITY_CASE})")
     p.add_argument("--quantity", dest="output", required=True, metavar="QUANTITY",
                    help="the result whose sensitivity is analysed: recommendation | robust | dynamic-robust | "
                         "dynamic:V1,V2 | minima:V | validity:V1,V2,... (speeds in km/h)")
@@ -60,7 +59,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def sensitivity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag sensitivity``."""
-    from presag_opt.sensitivity import sensitivity_analysis
+    from presag_opt.jobs import sensitivity_study
 
     workers = workers_of(args)
     plot = output_folder(args.plot, "--plot") if args.plot else None
@@ -71,8 +70,8 @@ def sensitivity_command(args: argparse.Namespace) -> int:
 
     inputs = [n.strip() for n in args.inputs.split(",") if n.strip()] if args.inputs else None
     with progress(args) as report:
-        result = sensitivity_analysis(
-            args.case, output=args.output, method=args.method, inputs=inputs, ranges=args.ranges,
+        result = sensitivity_study(
+            args.case, quantity=args.output, method=args.method, inputs=inputs, ranges=args.ranges,
             samples=args.samples, seed=args.seed, workers=workers, scheduler=args.scheduler, out=out,
             announce=announce, progress=report)
     paths = save_sensitivity_figures(result, plot) if plot and result.method != "spread" else []

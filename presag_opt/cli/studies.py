@@ -94,11 +94,12 @@ def sweep_command(args: argparse.Namespace) -> int:
 
 def validity_command(args: argparse.Namespace) -> int:
     """Handler of ``presag validity``."""
+    from presag_opt.jobs import validity
     from presag_opt.studies.store import open_store
-    from presag_opt.studies.validity_analysis import pantograph_view, validity_analysis
+    from presag_opt.studies.validity_analysis import pantograph_view
 
     dataset, pantograph = pantograph_view(open_store(args.store), args.pantograph)
-    result = validity_analysis(dataset, _selection(args.select), pantograph)
+    result = validity(args.store, select=_selection(args.select), pantograph=args.pantograph)
     if args.plot:
         from presag_opt.studies.plots import save_validity_plots
 

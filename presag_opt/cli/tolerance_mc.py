@@ -17,6 +17,7 @@ import math
 from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, report_failures, table
 from presag_opt.cli.decision_options import workers_of
 from presag_opt.errors import ModelError
+from presag_opt.jobs.options import MONTE_CARLO_SAMPLES
 
 MAX_ERROR_MM = 100.0
 """Largest error size accepted on the command line. [mm]"""
@@ -24,7 +25,7 @@ MAX_ERROR_MM = 100.0
 MAX_SAMPLES = 1_000_000
 """Most realisations. [-]"""
 
-DEFAULT_SAMPLES = {"quasi-static": 10_000, "dynamic": 100}
+DEFAULT_SAMPLES = {"quasi-static": MONTE_CARLO_SAMPLES, "dynamic": 100}
 """Realisations by default: quasi-static (about a second), dynamic (tens of minutes on 2 cores)."""
 
 

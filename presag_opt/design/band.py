@@ -98,6 +98,44 @@ class OperatingBand:
                 "give the band as low <= high"
             )
 
+    @classmethod
+    def from_kmh(cls, *, static_force: float | tuple[float, float], speed_kmh: float | tuple[float, float],
+                 aero_coefficient_kmh: float) -> OperatingBand:
+        """The band in the designer's units: N, km/h and N/(km/h)².
+
+        Parameters
+        ----------
+        static_force : float or (float, float)
+            Static contact force F_stat, one value or the band (low, high). [N]
+        speed_kmh : float or (float, float)
+            The top speed, or the speed band (low, high). [km/h]
+        aero_coefficient_kmh : float
+            Aerodynamic uplift coefficient α_ae. [N/(km/h)²]
+
+        Examples
+        --------
+        The case study's band, F_stat 70–140 N up to 90 km/h:
+
+        >>> from presag_opt import OperatingBand
+        >>> band = OperatingBand.from_kmh(static_force=(70, 140), speed_kmh=90, aero_coefficient_kmh=0.00097)
+        >>> band.speed_kmh, band.mean_force_band()
+        ((0.0, 90.0), (70.0, 147.857))
+        """
+        low, high = (static_force, static_force) if isinstance(static_force, int | float) else static_force
+        slow, shigh = (0.0, speed_kmh) if isinstance(speed_kmh, int | float) else speed_kmh
+        return cls(static_force_low=float(low), static_force_high=float(high), speed_low=slow * KMH,
+                   speed_high=shigh * KMH, aero_coefficient=aero_coefficient_kmh / KMH**2)
+
+    @property
+    def speed_kmh(self) -> tuple[float, float]:
+        """The speed band (low, high). [km/h]"""
+        return (self.speed_low / KMH, self.speed_high / KMH)
+
+    @property
+    def aero_coefficient_kmh(self) -> float:
+        """α_ae. [N/(km/h)²]"""
+        return self.aero_coefficient * KMH**2
+
     def mean_force_band(self) -> tuple[float, float]:
         """F_m at the low end (lowest F_stat, lowest speed) and the high end of the band. [N]"""
         return (
@@ -109,8 +147,8 @@ class OperatingBand:
         """JSON-ready content in edge units (N, km/h, N/(km/h)²)."""
         return {
             "static_force_N": [self.static_force_low, self.static_force_high],
-            "speed_kmh": [self.speed_low / KMH, self.speed_high / KMH],
-            "aero_coefficient_N_per_kmh2": self.aero_coefficient * KMH**2,
+            "speed_kmh": list(self.speed_kmh),
+            "aero_coefficient_N_per_kmh2": self.aero_coefficient_kmh,
         }
 
 

@@ -42,6 +42,7 @@ import numpy as np
 
 from presag_opt.design.evidence import RECORDS, Evidence
 from presag_opt.design.validity_limit import ValidityStatement
+from presag_opt.display import data_frame, html_summary
 
 DELTA_E_RULE = "quasi-static Δe rule"
 QUASI_STATIC_ROBUST = "quasi-static robust design"
@@ -265,6 +266,23 @@ class Decision:
             out.append(f"  alternative: {a.method} {a.presag_rel * 1e3:.2f} ‰ = {self.mm(a.presag_rel):.1f} mm"
                        + uplift + (f"; {where}" if where else ""))
         return out
+
+    def table(self) -> list[dict]:
+        """Every method's answer as rows (S in ‰ and mm, uplift in mm, the smallest margin to an interval
+        in force in mm; ``built`` marks the decision's basis)."""
+        in_force = [i for i in self.intervals if i.in_force]
+        return [{"method": a.method, "S_rel [‰]": a.presag_rel * 1e3, "S [mm]": self.mm(a.presag_rel),
+                 "uplift [mm]": None if a.uplift is None else a.uplift * 1e3, "uplift kind": a.uplift_kind,
+                 "margin [mm]": (min(self.mm(m) for i in in_force for m in i.margins(a.presag_rel))
+                                 if in_force else None),
+                 "built": a.method == self.basis} for a in self.answers]
+
+    def _repr_html_(self) -> str:
+        return html_summary(self.headline(), self.lines()[1:], self.table())
+
+    def to_frame(self):
+        """:meth:`table` as a pandas DataFrame."""
+        return data_frame(self.table())
 
     def _margin_text(self, interval: Interval, presag_rel: float) -> str:
         below, above = (self.mm(m) for m in interval.margins(presag_rel))

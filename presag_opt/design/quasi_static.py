@@ -111,7 +111,7 @@ def elasticity_difference(curve: ElasticityCurve, method: str) -> float:
 
 
 def presag_quasi_static(curve: ElasticityCurve, mean_force: float, method: str = "delta-e") -> float:
-    """Quasi-static pre-sag S = F_m (e_mid − e_mast) or S = F_m Δe.
+    r"""Quasi-static pre-sag S = F_m (e_mid − e_mast) or S = F_m Δe.
 
     Parameters
     ----------
@@ -128,6 +128,31 @@ def presag_quasi_static(curve: ElasticityCurve, mean_force: float, method: str =
     -------
     float
         Mid-span pre-sag S. [m]
+
+    Notes
+    -----
+    The pre-sag compensates the difference of the span's elasticity e(x) at the mean contact force,
+    so that the contact wire under the moving force F_m runs level (eq. 5, the Δe rule; eq. 2 with
+    the mid-span and mast elasticities):
+
+    .. math::
+
+        S = F_m\,\Delta e = F_m \left(\max_x e(x) - \min_x e(x)\right), \qquad
+        S_{rel} = S / l.
+
+    Examples
+    --------
+    A 60 m span whose elasticity runs from 0.40 mm/N at the masts to 0.82 mm/N at mid-span, at
+    F_m = 133 N:
+
+    >>> import numpy as np
+    >>> from presag_opt.design.quasi_static import presag_quasi_static
+    >>> from presag_opt.elasticity.curves import ElasticityCurve
+    >>> x = np.linspace(0.0, 60.0, 13)
+    >>> curve = ElasticityCurve(span=0, span_length=60.0, force=133.0, position=x,
+    ...                         elasticity=0.40e-3 + 0.42e-3 * np.sin(np.pi * x / 60.0))
+    >>> print(f"S = {presag_quasi_static(curve, 133.0) * 1e3:.1f} mm")
+    S = 55.9 mm
 
     References
     ----------

@@ -74,7 +74,7 @@ def contact_stiffness(penalty_stiffness, element_compliance):
 
 
 def contact_force(stiffness, penetration):
-    """Compressive contact force: stiffness × penetration in contact, zero in a gap. [N]
+    r"""Compressive contact force: stiffness × penetration in contact, zero in a gap. [N]
 
     Parameters
     ----------
@@ -82,6 +82,25 @@ def contact_force(stiffness, penetration):
         Contact stiffness (:func:`contact_stiffness`). [N/m]
     penetration : float
         Head height minus the height of the wire's chord at the contact point. [m]
+
+    Notes
+    -----
+    A unilateral penalty law: the penalty spring k_c in series with the compliance c of the wire
+    element under the head (:func:`contact_stiffness`), active only while the head penetrates:
+
+    .. math::
+
+        F_c = \frac{\langle \delta \rangle}{1/k_c + c}, \qquad
+        \langle \delta \rangle = \max(\delta, 0).
+
+    Examples
+    --------
+    A 50 kN/m penalty spring on a wire element of 1e-5 m/N, penetrated by 2 mm, and in a gap:
+
+    >>> from presag_opt.dynamics.laws import contact_force, contact_stiffness
+    >>> k = contact_stiffness(50_000.0, 1e-5)
+    >>> print(f"{k:.0f} N/m: {contact_force(k, 2e-3):.1f} N in contact, {contact_force(k, -1e-3):.1f} N in a gap")
+    33333 N/m: 66.7 N in contact, 0.0 N in a gap
     """
     return stiffness * penetration if penetration > 0.0 else 0.0
 
@@ -118,7 +137,7 @@ def contact_tangent(stiffness, penetration):
 
 
 def friction(level, relative_velocity, regularisation_velocity, factor):
-    """Regularised Coulomb friction F0 tanh(Δv / v_reg) and ``factor`` times its slope ∂F/∂Δv.
+    r"""Regularised Coulomb friction F0 tanh(Δv / v_reg) and ``factor`` times its slope ∂F/∂Δv.
 
     Works on numbers and on arrays of elements alike.
 
@@ -140,18 +159,51 @@ def friction(level, relative_velocity, regularisation_velocity, factor):
         Friction force, with the sign of the relative motion it resists. [N]
     slope : float or ndarray
         factor · F0/v_reg · (1 − tanh²(Δv / v_reg)). [N·s/m times the unit of ``factor``]
+
+    Notes
+    -----
+    Coulomb friction of level F0, regularised over v_reg so that the Newton iteration of an implicit
+    step sees a smooth law:
+
+    .. math::
+
+        F_f = F_0 \tanh\!\left(\frac{\Delta v}{v_{reg}}\right), \qquad
+        \frac{\partial F_f}{\partial \Delta v} = \frac{F_0}{v_{reg}}
+        \left(1 - \tanh^2\frac{\Delta v}{v_{reg}}\right).
+
+    Examples
+    --------
+    >>> from presag_opt.dynamics.laws import friction
+    >>> force, slope = friction(10.0, 0.5, 0.01, 1.0)
+    >>> round(float(force), 6), round(float(slope), 6)
+    (10.0, 0.0)
     """
     th = np.tanh(relative_velocity / regularisation_velocity)
     return level * th, factor * level / regularisation_velocity * (1.0 - th * th)
 
 
 def dropper_tension(axial):
-    """Tensile force of a tension-only dropper: max(N, 0). [N]
+    r"""Tensile force of a tension-only dropper: max(N, 0). [N]
 
     Parameters
     ----------
     axial : float or ndarray
         Axial force of the linearised dropper (:func:`dropper_axial_force`). [N]
+
+    Notes
+    -----
+    The linearised dropper's axial force from its stretch e and rate ė (the Rayleigh share β_R of
+    its stiffness as damping) carries tension only:
+
+    .. math::
+
+        N = N_0 + k\,e + \beta_R k\,\dot e, \qquad T = \max(N, 0).
+
+    Examples
+    --------
+    >>> from presag_opt.dynamics.laws import dropper_tension
+    >>> dropper_tension([120.0, -5.0]).tolist()
+    [120.0, 0.0]
     """
     return np.maximum(axial, 0.0)
 
@@ -207,7 +259,7 @@ class SchemeConstants(NamedTuple):
 
 
 def scheme_constants(settings) -> SchemeConstants:
-    """The HHT-α / Newmark constants of an integrator's settings.
+    r"""The HHT-α / Newmark constants of an integrator's settings.
 
     Parameters
     ----------
@@ -217,6 +269,30 @@ def scheme_constants(settings) -> SchemeConstants:
     Returns
     -------
     SchemeConstants
+
+    Notes
+    -----
+    HHT-α takes the equation of motion at a weighted instant of the step, with Newmark's update of
+    the displacement and velocity; α ∈ [−1/3, 0] damps the highest frequencies (α = 0 is Newmark's
+    average acceleration, without numerical damping):
+
+    .. math::
+
+        M a_{n+1} + (1 + \alpha)\left(C v_{n+1} + f(u_{n+1})\right) - \alpha \left(C v_n + f(u_n)\right)
+        = (1 + \alpha) F_{n+1} - \alpha F_n,
+
+        u_{n+1} = u_n + \Delta t\, v_n + \Delta t^2 \left[(\tfrac12 - \beta) a_n + \beta a_{n+1}\right], \qquad
+        v_{n+1} = v_n + \Delta t \left[(1 - \gamma) a_n + \gamma a_{n+1}\right],
+
+    with :math:`\gamma = 1/2 - \alpha` and :math:`\beta = (1 - \alpha)^2/4`.
+
+    Examples
+    --------
+    >>> from presag_opt.dynamics.integrator import IntegratorSettings
+    >>> from presag_opt.dynamics.laws import scheme_constants
+    >>> c = scheme_constants(IntegratorSettings(scheme="hht", hht_alpha=-0.005, time_step=2e-3))
+    >>> round(c.gamma, 4), round(c.beta, 6)
+    (0.505, 0.252506)
     """
     alpha = settings.hht_alpha if settings.scheme == "hht" else 0.0
     dt = settings.time_step

@@ -23,6 +23,7 @@ from presag_opt.design.decision import Decision, decide
 from presag_opt.design.evidence import Evidence, check_uplift_limit, crew_tolerance
 from presag_opt.design.recommendation import CASE_STUDY_MODELS, CASE_STUDY_SPAN_LENGTH, Recommendation, recommend
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
+from presag_opt.display import data_frame, html_summary
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
@@ -42,6 +43,13 @@ from presag_opt.system.loader import load_catenary
 
 CASE_STUDY_PANTOGRAPH = "case_study_2mass_friction"
 """Pantograph of the case study's dynamic runs (dynamic robust design, validity sweep)."""
+
+JOB_OPTIONS = {"validity_sweep": "study=STORE, a study written by presag sweep",
+               "dynamic_robust": "dynamic_robust=True, or the job dynamic_robust_design",
+               "dynamic_check": "design_line(..., dynamic_check=True)",
+               "installation_monte_carlo": "dropper_error_mm=MM"}
+"""The keyword of the Python jobs (:mod:`presag_opt.jobs`) that supplies each kind of evidence a decision
+can miss, as a notebook shows it."""
 
 SWEEPS = ("reduced", "quick")
 """Reduced sweeps a decision can run for itself: a few pre-sags × speeds × forces, or two of each."""
@@ -136,6 +144,40 @@ class BandAnswer:
     dynamic: DynamicRobustStudy | None
     monte_carlo: MonteCarloResult | None
     decision: Decision
+
+    def table(self, name: str = "answers") -> list[dict]:
+        """A table as rows: ``answers`` (every method's S, uplift and margin: the decision's table) or
+        ``layouts`` (the Δe rule per layout: S_rel range, S range on the reference span, static uplift).
+
+        Parameters
+        ----------
+        name : {"answers", "layouts"}
+            The table.
+        """
+        if name == "answers":
+            return self.decision.table()
+        if name != "layouts":
+            raise ModelError(f"table = {name!r} is not one of answers, layouts")
+        span = self.decision.reference_span
+        return [{"layout": lay.layout_kind, "system": lay.catenary_name, "spans": len(lay.section.spans),
+                 "S_rel low [‰]": lay.presag_rel_range[0] * 1e3, "S_rel high [‰]": lay.presag_rel_range[1] * 1e3,
+                 f"S low on {span:g} m [mm]": lay.presag_rel_range[0] * span * 1e3,
+                 f"S high on {span:g} m [mm]": lay.presag_rel_range[1] * span * 1e3,
+                 "static uplift [mm]": lay.steady_arm_uplift.uplift * 1e3}
+                for lay in self.recommendation.layouts]
+
+    def to_frame(self, name: str = "answers"):
+        """:meth:`table` as a pandas DataFrame.
+
+        Parameters
+        ----------
+        name : {"answers", "layouts"}
+            The table.
+        """
+        return data_frame(self.table(name))
+
+    def _repr_html_(self) -> str:
+        return html_summary(self.decision.headline(), self.decision.lines(JOB_OPTIONS)[1:], self.table())
 
 
 def reference_span(catenary: Catenary) -> float:

@@ -288,7 +288,7 @@ def robust_presag(
     risk: Risk | None = None,
     buildability: Buildability | None = None,
 ) -> RobustDesign:
-    """Pre-sag that minimises a risk measure of the path waviness over the force scenarios.
+    r"""Pre-sag that minimises a risk measure of the path waviness over the force scenarios.
 
     Parameters
     ----------
@@ -313,6 +313,34 @@ def robust_presag(
         Unknown shape, forces outside the computed force levels, infeasible buildability limits.
     ConvergenceError
         If Clarabel does not report an optimal solution.
+
+    Notes
+    -----
+    Under the force F_k of scenario k the contact wire runs along the path h_k = z(x; d) + F_k e(x; F_k):
+    its height z with the dropper depths d, lifted by the elasticity at that force. Its waviness R_k is
+    the range of h_k over a span (the worst analysed span), convex in d, and the design minimises a risk
+    measure of it over the scenarios of probabilities π_k:
+
+    .. math::
+
+        R_k(d) = \max_x h_k(x; d) - \min_x h_k(x; d),
+
+        \text{minimax: } \min_d \max_k R_k(d), \qquad \text{mean: } \min_d \sum_k \pi_k R_k(d),
+
+        \text{CVaR}_\alpha\text{: } \min_{d,\,\eta}\; \eta + \frac{1}{1 - \alpha}
+        \sum_k \pi_k \max\left(R_k(d) - \eta,\, 0\right),
+
+    each a linear programme (the range bounded by a top and a bottom variable per span and scenario).
+
+    Examples
+    --------
+    The case study's ideal section over its F_m band (the path model of its robust study):
+
+    >>> from presag_opt import load_catenary, robust_presag, robust_study
+    >>> study = robust_study(load_catenary("st_9.8_ideal"), (70.0, 147.857))
+    >>> design = robust_presag(study.path, study.scenarios)
+    >>> print(f"S_rel = {design.presag_rel * 1e3:.2f} ‰, worst R = {design.worst_case_waviness * 1e3:.1f} mm")
+    S_rel = 0.93 ‰, worst R = ... mm
     """
     risk = risk or Risk()
     if shape not in SHAPES:

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.evidence import InstallationTolerance
+from presag_opt.display import data_frame, html_summary
 from presag_opt.errors import ModelError
 from presag_opt.robust.installation import (
     InstallationErrors,
@@ -149,6 +150,25 @@ class MonteCarloResult:
     def samples(self) -> int:
         """Realisations. [-]"""
         return len(self.worst_case)
+
+    def table(self) -> list[dict]:
+        """The error-free worst case and the percentiles with their confidence intervals as rows, in mm for
+        the waviness (in the loss's unit otherwise)."""
+        scale, unit = (1e3, "mm") if self.unit == "m" else (1.0, self.unit)
+        rows = [{"": "error-free", f"value [{unit}]": self.nominal_worst_case * scale, "CI low": None, "CI high": None}]
+        return rows + [{"": f"P{level:g}", f"value [{unit}]": p.value * scale, "CI low": p.low * scale,
+                        "CI high": p.high * scale} for level, p in self.percentiles.items()]
+
+    def to_frame(self):
+        """:meth:`table` as a pandas DataFrame."""
+        return data_frame(self.table())
+
+    def _repr_html_(self) -> str:
+        e = self.errors
+        return html_summary(f"Installation errors by Monte Carlo: {self.samples} realisations, seed {self.seed}",
+                            [f"per dropper {e.dropper_length * 1e3:.2f} mm, per mast height "
+                             f"{e.contact_wire_height * 1e3:.2f} mm ({e.distribution}); confidence intervals "
+                             f"{self.confidence:.0%}"], self.table())
 
 
 def _chunked_worst(path: PathModel, depths: np.ndarray, scenarios: ForceScenarios, moves: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ from presag_opt.design.band import force_levels_for_band
 from presag_opt.design.evidence import QuasiStaticRobust
 from presag_opt.design.recommendation import presag_rel_range
 from presag_opt.design.section import section_elasticity
+from presag_opt.display import data_frame, html_summary
 from presag_opt.errors import ModelError
 from presag_opt.robust.buildability import Buildability
 from presag_opt.robust.lp import RobustDesign, evaluate_design, robust_presag
@@ -98,6 +99,26 @@ class RobustStudy:
                                             self.centre_tolerance.high * l_ref * 1e3],
             "solver_status": self.robust.solver_status,
         }
+
+    def table(self) -> list[dict]:
+        """The robust design beside the Δe rule as rows: S on the reference span, S_rel, worst and mean
+        waviness over the band."""
+        data = self.to_dict()
+        return [{"design": name, "S [mm]": data[f"{key}presag_mm"],
+                 "S_rel [‰]": data[f"{key}presag_mm"] / data["reference_span_m"],
+                 "worst R [mm]": data[f"{key}worst_case_waviness_mm"], "mean R [mm]": data[f"{key}mean_waviness_mm"]}
+                for name, key in (("robust", ""), ("Δe rule", "nominal_"))]
+
+    def to_frame(self):
+        """:meth:`table` as a pandas DataFrame."""
+        return data_frame(self.table())
+
+    def _repr_html_(self) -> str:
+        low, high = self.to_dict()["tolerance_mm"]
+        return html_summary(f"Robust pre-sag {self.robust.presag_rel * self.reference_span * 1e3:.1f} mm on "
+                            f"{self.reference_span:g} m ({self.robust.shape}, {self.robust.risk})",
+                            [f"{self.catenary_name}; quasi-static tolerance (worst-case R within "
+                             f"{self.tolerance.within * 100:g} %): {low:.1f}–{high:.1f} mm"], self.table())
 
     def evidence(self) -> QuasiStaticRobust:
         """The robust parabola and its tolerance as evidence for a decision (:mod:`presag_opt.design.evidence`)."""

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from presag_opt.design.recommendation import CASE_STUDY_MODELS
+from presag_opt.display import data_frame, html_summary
 from presag_opt.dynamics.case import SimulationCase, load_case
 from presag_opt.errors import ModelError
 from presag_opt.evaluation_store import Evaluation, EvaluationStore, analysis_key
@@ -152,6 +153,28 @@ class SensitivityResult:
             if item.output == value:
                 return item
         raise ModelError(f"value {value!r} is not one of {', '.join(i.output for i in self.indices)}")
+
+    def ranking(self) -> list[dict]:
+        """Every value's inputs, most important first, as rows: μ*, its 95 % half-width and σ (Morris),
+        or S1 and ST with theirs (Sobol), in the value's unit (a spread has no ranking)."""
+        rows = []
+        for t in self.indices:
+            for e in t.morris:
+                rows.append({"output": f"{t.output} [{t.unit}]", "input": e.name, "mu*": e.mu_star,
+                             "mu* ±": e.mu_star_conf, "sigma": e.sigma, "mu*/max": e.relative})
+            for e in t.sobol:
+                rows.append({"output": f"{t.output} [{t.unit}]", "input": e.name, "S1": e.first,
+                             "S1 ±": e.first_conf, "ST": e.total, "ST ±": e.total_conf})
+        return rows
+
+    def to_frame(self):
+        """:meth:`ranking` as a pandas DataFrame."""
+        return data_frame(self.ranking())
+
+    def _repr_html_(self) -> str:
+        firsts = [f"{t.output}: {(t.morris or t.sobol)[0].name} first" for t in self.indices if t.morris or t.sobol]
+        return html_summary(f"{self.case}: {self.method} sensitivity of {self.output} over {len(self.inputs)} "
+                            f"inputs ({self.evaluations} evaluations, seed {self.seed})", firsts, self.ranking())
 
     def to_dict(self) -> dict:
         """JSON-ready content: inputs, tables, and the design and values (inputs in display units)."""
