@@ -281,6 +281,7 @@ def load_survey(path: str | Path, *, working_width: float = DEFAULT_WORKING_WIDT
     SurveyError
         A missing file, a missing or unknown column, or any bad value (every one is listed).
     """
+    path = Path(path)
     rows = file_rows(path, COLUMNS, OPTIONAL_COLUMNS)
     return survey_from_rows(rows, source=path.name, working_width=working_width)
 

@@ -71,3 +71,10 @@ def test_file_errors_name_the_file_and_what_to_do(tmp_path, name, text, words):
 def test_a_missing_file_is_named(tmp_path):
     with pytest.raises(SurveyError, match="missing.csv does not exist"):
         rows(tmp_path / "missing.csv")
+
+
+def test_a_survey_path_given_as_text_is_read(tmp_path):
+    path = tmp_path / "line.csv"
+    path.write_text(",".join(COLUMNS) + "\n" + "\n".join(
+        f"M{i},{50 * i},{300 if i % 2 else -300},5.5,1.2,,pull-off" for i in range(5)) + "\n", encoding="utf-8")
+    assert load_survey(str(path)).source == "line.csv"
