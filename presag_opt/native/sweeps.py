@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from presag_opt import native
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""
@@ -108,13 +108,13 @@ def lanes_for(n_runs: int) -> int:
     return -(-n_runs // LANES) * LANES
 
 
-@inline
+@kernel_part
 def _lanes(work, active):
     """The lanes a sweep of ``active`` runs covers: whole blocks, within the padded run dimension."""
     return min(work.delta.shape[1], -(-active // LANES) * LANES)
 
 
-@inline
+@kernel_part
 def forward_sweep(c_sweeps, scalars, shared, state, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.forward_sweep` in C.
 
@@ -144,7 +144,7 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
                      work.delta.shape[1], _lanes(work, active))
 
 
-@inline
+@kernel_part
 def backward_sweep(c_sweeps, shared, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.backward_sweep` in C: the backward substitution of
     K_eff δ_lin = g.
@@ -167,7 +167,7 @@ def backward_sweep(c_sweeps, shared, work, active):
                       _lanes(work, active))
 
 
-@inline
+@kernel_part
 def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.update_sweep` in C.
 

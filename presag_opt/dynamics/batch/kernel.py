@@ -40,7 +40,7 @@ from presag_opt.dynamics.batch.newton_step import newton_step
 from presag_opt.dynamics.batch.predictor import newmark_predictor
 from presag_opt.dynamics.batch.update import newmark_update
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import inline, kernel_function
+from presag_opt.native.jit import kernel_function, kernel_part
 
 
 @kernel_function
@@ -74,7 +74,7 @@ def band_matvec(band, rows, x, out, runs):
             out[j, b] = acc[b]
 
 
-@inline
+@kernel_part
 def add_row_product(j, rows, x, acc, active, sign):
     """acc[:active] += Σ (sign · value) · x[column, :active] over row j's off-diagonal entries of
     ``rows``, in their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's
@@ -317,7 +317,7 @@ def forward_sweep(scalars, shared, state, work, active):
         substitute_row(j, shared.lower_rows, factor_band[j, 0], delta, acc, active)
 
 
-@inline
+@kernel_part
 def substitute_row(j, rows, pivot, x, acc, active):
     """One row of a triangular substitution: x[j, :active] = (acc − Σ value · x[column]) / pivot over
     row j's entries of ``rows``, in their order.

@@ -28,10 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
 
-@inline
+@kernel_part
 def influence(j, m, n, column_of, columns, pantograph_inverse):
     """Entry (j, m) of K_eff⁻¹ on the extended DOFs (catenary and pantographs are uncoupled in
     K_eff: 0 between them). [m/N]
@@ -58,7 +58,7 @@ def influence(j, m, n, column_of, columns, pantograph_inverse):
     return 0.0
 
 
-@inline
+@kernel_part
 def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """x_S = (δ_lin − s Z f)_S − δ_S on the set, with δ = δ_lin − s Z φ the current iterate (δ = 0
     before the first correction). [m]
@@ -100,7 +100,7 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     return x
 
 
-@inline
+@kernel_part
 def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate: y = (I + s T Z_SS)⁻¹ s T x_S with x_S of
     :func:`woodbury_target`; the new δ = δ_lin − s Z φ with φ = f + y/s, left in ``scratch.phi``
