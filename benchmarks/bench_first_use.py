@@ -44,8 +44,8 @@ def timed(tree: Path, caches: Path) -> tuple[float, float]:
            "NUMBA_CACHE_DIR": str(caches / "numba")}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "presag_opt.cli", *COMMAND], env=env, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([sys.executable, "-m", "presag_opt.cli", *COMMAND], env=env, check=True, cwd=tree,  # -m puts the
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # working folder first on the path
     wall = time.perf_counter() - started
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)

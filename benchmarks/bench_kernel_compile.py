@@ -49,7 +49,8 @@ def measure(tree: Path, cache: str) -> dict:
     """One cold compile of ``tree``'s kernel in a fresh process: wall and processor time [s]."""
     with tempfile.TemporaryDirectory(prefix="numba_cold_") as numba_cache:
         env = {**os.environ, "PYTHONPATH": str(tree), "NUMBA_CACHE_DIR": numba_cache, "XDG_CACHE_HOME": cache}
-        done = subprocess.run([sys.executable, "-c", WORKER], env=env, capture_output=True, text=True, check=True)
+        done = subprocess.run([sys.executable, "-c", WORKER], env=env, capture_output=True, text=True, check=True,
+                              cwd=tree)  # -c puts the working folder first on the path
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
