@@ -169,7 +169,12 @@ def kernel_function(function: Callable) -> Dispatcher:
 class KernelPart(CPUDispatcher):
     """A numba function that only kernel functions call (see :func:`kernel_part`)."""
 
-    def __call__(self, *args: object, **kwargs: object) -> None:
+    python_call: Callable | None = None
+    """What a call from Python runs (None: the call raises TypeError)."""
+
+    def __call__(self, *args: object, **kwargs: object) -> object:
+        if self.python_call is not None:
+            return self.python_call(*args, **kwargs)
         raise TypeError(f"{self.py_func.__qualname__} is a part of the compiled kernel and has no Python entry: "
                         "call it from a kernel function")
 
@@ -179,15 +184,18 @@ class KernelPart(CPUDispatcher):
         return super().get_call_template(tuple(numba_types.unliteral(a) for a in args), kws)
 
 
-def kernel_part(function: Callable) -> Dispatcher:
+def kernel_part(function: Callable, python_call: Callable | None = None) -> Dispatcher:
     """A plain-Python function compiled as a part of the kernel functions that call it.
 
     Compiled once per argument types (literal constants counted as their type) and linked into its
     callers, where LLVM inlines it: no Python entry point and no C wrapper is built for it (those
-    were a third of the kernel's compile time), and calling it from Python raises TypeError. Not
-    cached on its own: its callers' caches cover its file. Under ``NUMBA_DISABLE_JIT`` it is the
-    function as written."""
+    were a third of the kernel's compile time). Called from Python it runs ``python_call``, the same
+    computation for Python (for a part that numba alone can run), or, without one, raises TypeError.
+    Not cached on its own: its callers' caches cover its file. Under ``NUMBA_DISABLE_JIT`` it is
+    ``python_call`` or the function as written."""
     dispatcher = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True)(function)
-    if isinstance(dispatcher, CPUDispatcher):
-        dispatcher.__class__ = KernelPart
+    if not isinstance(dispatcher, CPUDispatcher):
+        return python_call or dispatcher
+    dispatcher.__class__ = KernelPart
+    dispatcher.python_call = python_call
     return dispatcher
