@@ -106,8 +106,9 @@ def simulate_band(
     presag_rel: float,
     progress: Callable[[str], None] | None = None,
     spacings: tuple[float, ...] | None = None,
+    part: tuple[int, int] = (0, 1),
 ) -> BandEvaluation:
-    """Form-find one parabolic pre-sag and run every point of the grid in one batch.
+    """Form-find one parabolic pre-sag and run every point of the grid (or a part of them) in one batch.
 
     With several pantographs (``spacings``) every pantograph of a run is a point of its own: its
     statistics, and the run's steady-arm uplift.
@@ -130,6 +131,9 @@ def simulate_band(
         Called with a short message before the form-finding and after each batch of runs.
     spacings : tuple of float, optional
         Distances between consecutive pantographs of the train, front to rear. [m]
+    part : (int, int)
+        ``(i, n)``: run only the points i, i + n, i + 2n, … of the grid (a part for one process;
+        :func:`join_parts` puts the parts together). [-]
 
     Raises
     ------
@@ -148,7 +152,7 @@ def simulate_band(
     except ConvergenceError as exc:
         raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
                                f"{str(exc).splitlines()[0]}", exc.stats) from None
-    points = grid.points()
+    points = grid.points()[part[0]::part[1]]
     batch = simulate_many(state, pantograph, points, spacings=spacings, settings=settings, keep_histories=True,
                           progress=(lambda message: progress(f"{label}: {message}")) if progress else None)
     histories, loss, uplift = [], [], []
@@ -175,6 +179,45 @@ def simulate_band(
         loss_of_contact=np.array(loss),
         wall_time=wallclock.perf_counter() - started,
         warnings=tuple(dict.fromkeys(w for run in batch.runs for w in run.warnings)),
+    )
+
+
+def join_parts(parts: list[BandEvaluation], pantographs: int = 1) -> BandEvaluation:
+    """One pre-sag's evaluation from its parts (``part=(i, len(parts))`` of :func:`simulate_band`, in
+    order of i): every point's numbers back in the grid's order; the wall time is the longest part's.
+
+    Each run's numbers do not depend on the other runs of its batch (to the last bit), so the joined
+    evaluation is the one a single batch gives.
+
+    Parameters
+    ----------
+    parts : list of BandEvaluation
+        The parts, in order.
+    pantographs : int
+        Pantographs per run (each is a point of the statistics). [-]
+    """
+    if len(parts) == 1:
+        return parts[0]
+    count = len(parts)
+    runs = sum(len(p.histories) for p in parts) // pantographs
+    order = [(run % count, (run // count) * pantographs + k)  # (part, index in it) of each point, in grid order
+             for run in range(runs) for k in range(pantographs)]
+
+    def joined(values):
+        return [values(parts[i])[j] for i, j in order]
+
+    first = parts[0].statistics
+    return BandEvaluation(
+        statistics=BandStatistics(
+            presag_rel=first.presag_rel,
+            mean_force=np.array(joined(lambda p: p.statistics.mean_force)),
+            sigma=np.array(joined(lambda p: p.statistics.sigma)),
+            uplift_max=np.array(joined(lambda p: p.statistics.uplift_max)),
+        ),
+        histories=tuple(joined(lambda p: p.histories)),
+        loss_of_contact=np.array(joined(lambda p: p.loss_of_contact)),
+        wall_time=max(p.wall_time for p in parts),
+        warnings=tuple(dict.fromkeys(w for p in parts for w in p.warnings)),
     )
 
 
@@ -266,16 +309,22 @@ class BandEvaluator:
         presags = [float(s) for s in presags]
         new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
         common = (self.catenary, self.pantograph, self.grid, self.settings, self.static_settings)
-        if self.workers > 1 and len(new) > 1:
-            span = self.reference_span
-            count = min(self.workers, len(new))
+        if self.workers > 1 and new:
+            # Every process busy: the pre-sags side by side, each split into parts of its grid when
+            # there are more processes than pre-sags; this process runs the first task itself.
+            split = max(1, min(self.workers // len(new), len(self.grid.points())))
+            tasks = [(s, (i, split)) for s in new for i in range(split)]
+            count = min(self.workers, len(tasks))
             if self.progress:
+                span = self.reference_span
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
-            with worker_pool(count, WorkerPolicy.PICKLED) as pool:
-                futures = [pool.submit(simulate_band, *common, s, None, self.spacings) for s in new]
-                results = [f.result() for f in futures]
-            for s, evaluation in zip(new, results):
-                self._keep(s, evaluation)
+            with worker_pool(count - 1, WorkerPolicy.PICKLED) as pool:
+                futures = [pool.submit(simulate_band, *common, s, None, self.spacings, part) for s, part in tasks[1:]]
+                results = [simulate_band(*common, tasks[0][0], None, self.spacings, tasks[0][1])]
+                results += [f.result() for f in futures]
+            pantographs = len(self.spacings) + 1 if self.spacings else 1
+            for k, s in enumerate(new):
+                self._keep(s, join_parts(results[k * split:(k + 1) * split], pantographs))
         else:
             for s in new:
                 self._keep(s, simulate_band(*common, s, progress=self.progress, spacings=self.spacings))
