@@ -33,6 +33,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from _targets import side_by_side  # noqa: E402 - the benchmarks folder is not a package
 
 COMMANDS = {
     "robust": (["robust", "--dynamic"], 20.0),
@@ -69,11 +72,8 @@ def timed(tree: Path, caches: Path, arguments: list[str]) -> tuple[float, float,
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--base", type=Path, required=True, help="the base tree (a checkout of the base commit)")
-    parser.add_argument("--repeat", type=int, default=3, help="timed runs per tree and command")
     parser.add_argument("--only", choices=sorted(COMMANDS), action="append", help="run only this command")
-    args = parser.parse_args()
-    trees = {"this": ROOT, "base": args.base.resolve()}
+    args, trees = side_by_side(parser, ROOT, 3, "timed runs per tree and command")
     print(f"load average before: {os.getloadavg()}", flush=True)
     missed = []
     with tempfile.TemporaryDirectory(prefix="bench_decision_") as folder:

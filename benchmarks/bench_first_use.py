@@ -31,7 +31,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from _targets import Targets  # noqa: E402 - the benchmarks folder is not a package
+from _targets import Targets, side_by_side  # noqa: E402 - the benchmarks folder is not a package
 
 COMMAND = ["simulate", "--case", "case_study_st98", "--speed", "80", "--static-force", "100,120"]
 FIRST_USE_LIMIT = 10.0
@@ -52,11 +52,8 @@ def timed(tree: Path, caches: Path) -> tuple[float, float]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--base", type=Path, required=True, help="the base tree (a checkout of the base commit)")
-    parser.add_argument("--repeat", type=int, default=2, help="first uses (each followed by a warm run) per tree")
-    args = parser.parse_args()
-    trees = {"this": ROOT, "base": args.base.resolve()}
+    args, trees = side_by_side(argparse.ArgumentParser(description=__doc__.splitlines()[0]), ROOT, 2,
+                               "first uses (each followed by a warm run) per tree")
     print(f"presag {' '.join(COMMAND)}")
     print(f"load average before: {os.getloadavg()}", flush=True)
     runs: dict[str, dict[str, list[tuple[float, float]]]] = {name: {"first": [], "warm": []} for name in trees}

@@ -26,6 +26,9 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from _targets import side_by_side  # noqa: E402 - the benchmarks folder is not a package
 
 WORKER = r'''
 import dataclasses, json, time
@@ -55,11 +58,8 @@ def measure(tree: Path, cache: str) -> dict:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--base", type=Path, required=True, help="the base tree (a checkout of the base commit)")
-    parser.add_argument("--repeat", type=int, default=2, help="cold compiles per tree")
-    args = parser.parse_args()
-    trees = {"this": ROOT, "base": args.base.resolve()}
+    args, trees = side_by_side(argparse.ArgumentParser(description=__doc__.splitlines()[0]), ROOT, 2,
+                               "cold compiles per tree")
     print(f"load average before: {os.getloadavg()}", flush=True)
     times: dict[str, list[dict]] = {name: [] for name in trees}
     with tempfile.TemporaryDirectory(prefix="bench_kernel_compile_") as cache:
