@@ -12,8 +12,10 @@ with its reason: a design is never chosen around a missing run.
 
 from __future__ import annotations
 
+import contextlib
 import time as wallclock
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -275,6 +277,28 @@ class BandEvaluator:
         self.spacings = tuple(spacings) if spacings else None
         self.evaluations: dict[float, BandEvaluation] = {}
         self.runs_used = 0
+        self._pool: ProcessPoolExecutor | None = None
+
+    @contextlib.contextmanager
+    def sharing_processes(self) -> Iterator[None]:
+        """Inside the block, every evaluation uses the same worker processes, started once (a study of
+        several pre-sags one after another: each would otherwise start its own and import the package
+        and load the compiled kernel again); stopped when the block ends or is interrupted."""
+        if self.workers == 1 or self._pool is not None:
+            yield
+            return
+        with worker_pool(self.workers - 1, WorkerPolicy.PICKLED) as pool:
+            self._pool = pool
+            try:
+                yield
+            finally:
+                self._pool = None
+
+    def _processes(self, count: int) -> contextlib.AbstractContextManager[ProcessPoolExecutor]:
+        """The shared worker processes, or ``count`` of their own for one evaluation."""
+        if self._pool is not None:
+            return contextlib.nullcontext(self._pool)
+        return worker_pool(count, WorkerPolicy.PICKLED)
 
     @property
     def reference_span(self) -> float:
@@ -318,7 +342,7 @@ class BandEvaluator:
             if self.progress:
                 span = self.reference_span
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
-            with worker_pool(count - 1, WorkerPolicy.PICKLED) as pool:
+            with self._processes(count - 1) as pool:
                 futures = [pool.submit(simulate_band, *common, s, None, self.spacings, part) for s, part in tasks[1:]]
                 results = [simulate_band(*common, tasks[0][0], None, self.spacings, tasks[0][1])]
                 results += [f.result() for f in futures]
