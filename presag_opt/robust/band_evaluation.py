@@ -12,10 +12,8 @@ with its reason: a design is never chosen around a missing run.
 
 from __future__ import annotations
 
-import contextlib
 import time as wallclock
-from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -108,9 +106,8 @@ def simulate_band(
     presag_rel: float,
     progress: Callable[[str], None] | None = None,
     spacings: tuple[float, ...] | None = None,
-    part: tuple[int, int] = (0, 1),
 ) -> BandEvaluation:
-    """Form-find one parabolic pre-sag and run every point of the grid (or a part of them) in one batch.
+    """Form-find one parabolic pre-sag and run every point of the grid in one batch.
 
     With several pantographs (``spacings``) every pantograph of a run is a point of its own: its
     statistics, and the run's steady-arm uplift.
@@ -133,9 +130,6 @@ def simulate_band(
         Called with a short message before the form-finding and after each batch of runs.
     spacings : tuple of float, optional
         Distances between consecutive pantographs of the train, front to rear. [m]
-    part : (int, int)
-        ``(i, n)``: run only the points i, i + n, i + 2n, … of the grid (a part for one process;
-        :func:`join_parts` puts the parts together). [-]
 
     Raises
     ------
@@ -154,7 +148,7 @@ def simulate_band(
     except ConvergenceError as exc:
         raise ConvergenceError(f"dynamic robust pre-sag: form-finding at {label} failed: "
                                f"{str(exc).splitlines()[0]}", exc.stats) from None
-    points = grid.points()[part[0]::part[1]]
+    points = grid.points()
     batch = simulate_many(state, pantograph, points, spacings=spacings, settings=settings, keep_histories=True,
                           progress=(lambda message: progress(f"{label}: {message}")) if progress else None)
     histories, loss, uplift = [], [], []
@@ -181,45 +175,6 @@ def simulate_band(
         loss_of_contact=np.array(loss),
         wall_time=wallclock.perf_counter() - started,
         warnings=tuple(dict.fromkeys(w for run in batch.runs for w in run.warnings)),
-    )
-
-
-def join_parts(parts: list[BandEvaluation], pantographs: int = 1) -> BandEvaluation:
-    """One pre-sag's evaluation from its parts (``part=(i, len(parts))`` of :func:`simulate_band`, in
-    order of i): every point's numbers back in the grid's order; the wall time is the longest part's.
-
-    Each run's numbers do not depend on the other runs of its batch (to the last bit), so the joined
-    evaluation is the one a single batch gives.
-
-    Parameters
-    ----------
-    parts : list of BandEvaluation
-        The parts, in order.
-    pantographs : int
-        Pantographs per run (each is a point of the statistics). [-]
-    """
-    if len(parts) == 1:
-        return parts[0]
-    count = len(parts)
-    runs = sum(len(p.histories) for p in parts) // pantographs
-    order = [(run % count, (run // count) * pantographs + k)  # (part, index in it) of each point, in grid order
-             for run in range(runs) for k in range(pantographs)]
-
-    def joined(values):
-        return [values(parts[i])[j] for i, j in order]
-
-    first = parts[0].statistics
-    return BandEvaluation(
-        statistics=BandStatistics(
-            presag_rel=first.presag_rel,
-            mean_force=np.array(joined(lambda p: p.statistics.mean_force)),
-            sigma=np.array(joined(lambda p: p.statistics.sigma)),
-            uplift_max=np.array(joined(lambda p: p.statistics.uplift_max)),
-        ),
-        histories=tuple(joined(lambda p: p.histories)),
-        loss_of_contact=np.array(joined(lambda p: p.loss_of_contact)),
-        wall_time=max(p.wall_time for p in parts),
-        warnings=tuple(dict.fromkeys(w for p in parts for w in p.warnings)),
     )
 
 
@@ -277,28 +232,6 @@ class BandEvaluator:
         self.spacings = tuple(spacings) if spacings else None
         self.evaluations: dict[float, BandEvaluation] = {}
         self.runs_used = 0
-        self._pool: ProcessPoolExecutor | None = None
-
-    @contextlib.contextmanager
-    def sharing_processes(self) -> Iterator[None]:
-        """Inside the block, every evaluation uses the same worker processes, started once (a study of
-        several pre-sags one after another: each would otherwise start its own and import the package
-        and load the compiled kernel again); stopped when the block ends or is interrupted."""
-        if self.workers == 1 or self._pool is not None:
-            yield
-            return
-        with worker_pool(self.workers - 1, WorkerPolicy.PICKLED) as pool:
-            self._pool = pool
-            try:
-                yield
-            finally:
-                self._pool = None
-
-    def _processes(self, count: int) -> contextlib.AbstractContextManager[ProcessPoolExecutor]:
-        """The shared worker processes, or ``count`` of their own for one evaluation."""
-        if self._pool is not None:
-            return contextlib.nullcontext(self._pool)
-        return worker_pool(count, WorkerPolicy.PICKLED)
 
     @property
     def reference_span(self) -> float:
@@ -333,22 +266,16 @@ class BandEvaluator:
         presags = [float(s) for s in presags]
         new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
         common = (self.catenary, self.pantograph, self.grid, self.settings, self.static_settings)
-        if self.workers > 1 and new:
-            # Every process busy: the pre-sags side by side, each split into parts of its grid when
-            # there are more processes than pre-sags; this process runs the first task itself.
-            split = max(1, min(self.workers // len(new), len(self.grid.points())))
-            tasks = [(s, (i, split)) for s in new for i in range(split)]
-            count = min(self.workers, len(tasks))
+        if self.workers > 1 and len(new) > 1:
+            span = self.reference_span
+            count = min(self.workers, len(new))
             if self.progress:
-                span = self.reference_span
                 self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
-            with self._processes(count - 1) as pool:
-                futures = [pool.submit(simulate_band, *common, s, None, self.spacings, part) for s, part in tasks[1:]]
-                results = [simulate_band(*common, tasks[0][0], None, self.spacings, tasks[0][1])]
-                results += [f.result() for f in futures]
-            pantographs = len(self.spacings) + 1 if self.spacings else 1
-            for k, s in enumerate(new):
-                self._keep(s, join_parts(results[k * split:(k + 1) * split], pantographs))
+            with worker_pool(count, WorkerPolicy.PICKLED) as pool:
+                futures = [pool.submit(simulate_band, *common, s, None, self.spacings) for s in new]
+                results = [f.result() for f in futures]
+            for s, evaluation in zip(new, results):
+                self._keep(s, evaluation)
         else:
             for s in new:
                 self._keep(s, simulate_band(*common, s, progress=self.progress, spacings=self.spacings))

@@ -304,9 +304,8 @@ def dynamic_robust_study(
         started -= quasi.wall_time  # the whole study's time includes the quasi-static one, computed before
     quasi_cost = quasi.wall_time
     starts = (quasi.robust_parabola.presag_rel, quasi.nominal.presag_rel)
-    with evaluator.sharing_processes():
-        design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
-        tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
+    design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
+    tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
     weights = grid.weights
     methods = []
     for name, presag_rel, cost in ((DELTA_E, starts[1], quasi_cost), (QUASI_STATIC, starts[0], quasi_cost),

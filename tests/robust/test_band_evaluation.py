@@ -3,8 +3,6 @@ run statistics, and the evaluator's cache (small fast band of ``test_dynamic_sea
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 import pytest
 
@@ -44,33 +42,3 @@ def test_band_statistics_are_the_simulators_statistics_and_are_cached():
     assert evaluation.statistics.sigma == pytest.approx(sigma, rel=1e-9)
     assert evaluation.statistics.uplift_max == pytest.approx([r.uplift_max for r in runs], rel=1e-12)
     assert evaluation.loss_of_contact.tolist() == [r.statistics[0].loss_of_contact for r in runs]
-
-
-def test_a_pre_sag_split_over_processes_is_the_single_batch_to_the_last_bit():
-    """Two processes for one pre-sag: each runs half of the grid, and the joined evaluation is the
-    one-batch evaluation (a run's numbers do not depend on its batch)."""
-    alone = BandEvaluator(CATENARY, PANTOGRAPH, GRID, settings=SETTINGS)(PRESAG_REL)
-    split = BandEvaluator(CATENARY, PANTOGRAPH, GRID, settings=SETTINGS, workers=2)
-    joined = split(PRESAG_REL)
-    assert split.runs_used == len(GRID.points())
-    for name in ("mean_force", "sigma", "uplift_max"):
-        assert np.array_equal(getattr(joined.statistics, name), getattr(alone.statistics, name)), name
-    assert np.array_equal(joined.loss_of_contact, alone.loss_of_contact)
-    assert len(joined.histories) == len(alone.histories)
-    assert all(np.array_equal(a, b) for a, b in zip(joined.histories, alone.histories, strict=True))
-
-
-def test_shared_processes_serve_every_evaluation_of_the_block_and_stop_with_it():
-    evaluator = BandEvaluator(CATENARY, PANTOGRAPH, GRID, settings=SETTINGS, workers=2)
-    with evaluator.sharing_processes():
-        pool = evaluator._pool
-        assert pool is not None
-        first = evaluator(PRESAG_REL)
-        second = evaluator(PRESAG_REL * 1.5)
-        assert evaluator._pool is pool  # the same processes for both pre-sags
-        worker_pids = set(pool._processes)
-    assert evaluator._pool is None and len(worker_pids) == 1
-    for pid in worker_pids:  # joined when the block ended
-        with pytest.raises(ProcessLookupError):
-            os.kill(pid, 0)
-    assert first.statistics.sigma.shape == second.statistics.sigma.shape == (len(GRID.points()),)
