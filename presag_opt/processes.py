@@ -197,6 +197,10 @@ class WorkerMemo:
         return WorkerMemo, (self.size,)
 
 
+_BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+"""Environment variables that set the thread count of a BLAS library when it loads."""
+
+
 def _start_worker(parent: int, settings: runtime.Runtime, job: Callable[..., Any] | None) -> None:
     """Initializer of every worker: the parent's runtime and job, die with the parent, leave
     interrupts to the parent.
@@ -206,7 +210,16 @@ def _start_worker(parent: int, settings: runtime.Runtime, job: Callable[..., Any
     otherwise inherit the command line's handler). A worker shows no Python warnings: they would
     reach the terminal raw, once per worker, beside the parent's; the parent raises the same input
     warnings when it checks the work, and results carry their own.
+
+    A worker's linear algebra (BLAS) runs on one thread: the pool already gives each core a worker,
+    and BLAS threads of their own would compete with the other workers for the same cores (the
+    sparse solves with many right-hand sides of a path model stalled for seconds that way on a
+    loaded machine).
     """
+    from threadpoolctl import threadpool_limits  # only workers need it
+
+    os.environ.update(dict.fromkeys(_BLAS_THREADS, "1"))  # libraries this worker loads later
+    threadpool_limits(1, user_api="blas")  # those loaded already (inherited under fork)
     settings.activate()
     if job is not None:
         _JOB.set(job)

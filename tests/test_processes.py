@@ -144,3 +144,19 @@ def test_no_call_site_outside_processes_chooses_a_start_method():
     offenders = [str(path.relative_to(package)) for path in package.rglob("*.py") if path.name != "processes.py"
                  and any(word in path.read_text() for word in ("get_context(", "get_all_start_methods", "mp_context"))]
     assert offenders == []
+
+
+def _blas_threads() -> list[int]:
+    import numpy  # noqa: F401 (loads numpy's BLAS)
+    import scipy.sparse.linalg  # noqa: F401 (and scipy's)
+    from threadpoolctl import threadpool_info
+
+    return [pool["num_threads"] for pool in threadpool_info() if pool["user_api"] == "blas"]
+
+
+@pytest.mark.parametrize("policy", [WorkerPolicy.FAST_START, WorkerPolicy.PICKLED])
+def test_a_worker_runs_its_linear_algebra_on_one_thread(policy):
+    """Each worker's BLAS libraries (numpy's and scipy's) are limited to one thread, forked or spawned."""
+    with worker_pool(2, policy) as pool:
+        threads = pool.submit(_blas_threads).result()
+    assert len(threads) >= 1 and set(threads) == {1}

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import time
+from pathlib import Path
 
 from presag_opt.cli.common import (
     add_json_flag,
@@ -26,6 +28,7 @@ from presag_opt.cli.decision_options import (
     print_decision,
     workers_of,
 )
+from presag_opt.system.dropper_type import DEFAULT_DROPPER_TYPE
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -35,10 +38,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="design a surveyed line: per-span pre-sag, a dropper schedule and one decision",
         description=(
             "Read a survey table (one row per mast: mast, chainage_m, stagger_mm, contact_wire_height_m, "
-            "system_height_m, curve_radius_m, steady_arm, optionally section) and design every tension section "
+            "system_height_m, curve_radius_m, steady_arm, optionally section, cant_mm, stitched) and design every tension section "
             "on the system model's wires, tensions, droppers and supports: the decision (what to build and why, "
-            "with every sized span's built pre-sag checked against its own tolerance), DIR/droppers.csv, "
-            "DIR/spans.csv and DIR/index.html (the line report). Overlap spans between sections are not modelled."
+            "with every sized span's built pre-sag checked against its own tolerance), DIR/droppers.csv (the crew's "
+            "schedule: dropper ids, chainages, heights, lateral positions and cut lengths), DIR/spans.csv, "
+            "DIR/rounding.csv with --round, and DIR/index.html (the line report with the crew's printable dropper "
+            "sheets). With cant_mm the stagger and height are as the pantograph sees them on the canted track. "
+            "Overlap spans between sections are not modelled."
         ),
     )
     p.add_argument("survey", metavar="SURVEY", help="survey table: .csv, .xlsx or .toml")
@@ -60,30 +66,59 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--dynamic-check", action="store_true",
                    help="also simulate the band's worst points (top speed, lowest and highest static force) on the "
                         "section with the largest static uplift, as built")
-    p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx")
+    p.add_argument("--round", metavar="MM", type=float, default=0.0,
+                   help="round the cut lengths to the crew's cutting step in mm (default 0: exact); the rounding "
+                        "error (uniform ±step/2 on every dropper) goes into the installation tolerance: the P95 "
+                        "waviness of the rounded schedule beside the exact one, and a crew tolerance never below the "
+                        "pre-sag error rounding alone causes")
+    p.add_argument("--dropper-type", metavar="TYPE", default=DEFAULT_DROPPER_TYPE,
+                   help="dropper type whose terminal and loop allowances make the cut length: a built-in name or a "
+                        f"model file (default {DEFAULT_DROPPER_TYPE}, allowances assumed)")
+    p.add_argument("--xlsx", action="store_true", help="also write DIR/line_design.xlsx (the tables and the crew's "
+                   "sheets)")
+    p.add_argument("--dxf", action="store_true", help="also write DIR/line_design.dxf: the longitudinal profile (masts, "
+                   "both wires, droppers with their ids) and the developed plan (track centre line, staggers), on named "
+                   "layers in metres")
     add_json_flag(p)
     p.set_defaults(handler=design_command)
 
 
 def design_command(args: argparse.Namespace) -> int:
     """Handler of ``presag design``."""
-    import warnings
-
     from presag_opt.design.line import LineOptions
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
-    from presag_opt.pipeline.line import answer_line
-    from presag_opt.report.line_report import LINE_OPTIONS, write_line_outputs
+    from presag_opt.system.dropper_type import check_step, load_dropper_type
     from presag_opt.system.loader import load_catenary
     from presag_opt.system.survey import load_survey
 
+    round_step = check_step(args.round * 1e-3)
+    dropper_type = load_dropper_type(args.dropper_type)
     survey = load_survey(args.survey, working_width=args.working_width * 1e-3)
     base = load_catenary(args.system)
     band = operating_band(args)
     check_band_speed(args, [base])
-    options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=workers_of(args))
+    options = LineOptions(rule=args.rule, element_length=args.element_length, step=args.step, workers=workers_of(args),
+                          round_step=round_step, dropper_type=dropper_type)
     settings = decision_settings(args)
+    created = not Path(args.out).exists()
     folder = output_folder(args.out)
+    try:
+        return _design(args, survey, base, band, options, settings, dropper_type, folder)
+    except BaseException:
+        if created:  # a failed run leaves no folder behind that it made
+            shutil.rmtree(folder, ignore_errors=True)
+        raise
+
+
+def _design(args, survey, base, band, options, settings, dropper_type, folder) -> int:
+    """The work of ``presag design`` once its input is read and checked (see :func:`design_command`)."""
+    import warnings
+
+    from presag_opt.dynamics.pantograph import load_pantograph
+    from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
+    from presag_opt.pipeline.line import answer_line
+    from presag_opt.report.line_report import LINE_OPTIONS, write_line_outputs
+
+    round_step = options.round_step
     dynamic = None
     if args.dynamic_robust:
         dynamic = DynamicOptions(workers=workers_of(args))
@@ -94,7 +129,7 @@ def design_command(args: argparse.Namespace) -> int:
         answer = answer_line(survey, base, band, options=options, within=settings["within"],
                              uplift_limit=settings["uplift_limit"], crew=settings["crew"], study=settings["study"],
                              check=args.dynamic_check, dynamic=dynamic, progress=report)
-        paths = write_line_outputs(answer, folder, xlsx=args.xlsx)
+        paths = write_line_outputs(answer, folder, xlsx=args.xlsx, dxf=args.dxf)
     seconds = time.perf_counter() - start
     print_warnings(str(w.message) for w in caught)
     design = answer.design
@@ -110,6 +145,13 @@ def design_command(args: argparse.Namespace) -> int:
                               for flag, spans in answer.flagged().items()},
             "advice": answer.advice(),
             "droppers": len(design.droppers),
+            "dropper_type": dropper_type.describe(),
+            "round_mm": round_step * 1e3,
+            "rounding": [{"section": section, "step_mm": r.step * 1e3, "waviness_exact_mm": r.waviness_exact * 1e3,
+                          "waviness_p95_rounded_mm": {"value": r.waviness_p95 * 1e3,
+                                                      "ci": [v * 1e3 for v in r.waviness_p95_ci]},
+                          "presag_error_p95_mm": r.presag_error_p95 * 1e3, "samples": r.samples}
+                         for section, r in design.rounding()],
             "rules_failing": [{"section": r.section, "rule": r.rule, "status": r.status, "worst": r.worst}
                               for r in design.rules if not r.passed],
             "notes": list(design.notes),
@@ -127,6 +169,12 @@ def design_command(args: argparse.Namespace) -> int:
             low, high = s.tolerance
             print(f"Span {s.section}/{s.from_mast}–{s.to_mast}: built {s.presag * 1e3:.1f} mm, {flag} "
                   f"{low * 1e3:.1f}–{high * 1e3:.1f} mm")
+    print(f"Cut lengths: {dropper_type.describe()}, "
+          + (f"rounded to {round_step * 1e3:g} mm" if round_step else "exact (no --round)"))
+    for section, r in design.rounding():
+        print(f"Rounding to {r.step * 1e3:g} mm, section {section}: P95 waviness {r.waviness_p95 * 1e3:.1f} mm "
+              f"({r.waviness_p95_ci[0] * 1e3:.1f}–{r.waviness_p95_ci[1] * 1e3:.1f}) beside {r.waviness_exact * 1e3:.1f} mm "
+              f"exact; mid-span pre-sag error P95 ±{r.presag_error_p95 * 1e3:.1f} mm")
     if answer.advice():
         print(f"Advice: {answer.advice()}")
     for note in design.notes:

@@ -34,23 +34,25 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import OperatingBand, force_levels_for_band
+from presag_opt.design.line_droppers import section_droppers
 from presag_opt.design.line_results import (
-    DropperDesign,
     LineDesign,
     LineSizing,
     SectionDesign,
     SectionSizing,
     SpanDesign,
 )
-from presag_opt.design.line_rules import check_rules
+from presag_opt.design.line_rules import check_rules, span_gradients
 from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import SectionElasticity, default_spans, section_curves
+from presag_opt.design.survey_terms import in_survey_terms
 from presag_opt.errors import ConvergenceError, ModelError, PresagError, failure_reason
 from presag_opt.evaluation_store import Evaluation
 from presag_opt.processes import WorkerPolicy, worker_pool
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
+from presag_opt.system.dropper_type import DropperType, check_step, load_dropper_type
 from presag_opt.system.survey import Survey, SurveySection, section_catenary
 
 PRESAG_RULES = ("proportional", "per-span", "robust")
@@ -81,6 +83,11 @@ class LineOptions:
         Largest miss of a form-finding target accepted (the static model's default). [m]
     workers : int
         Processes for the sections. [-]
+    round_step : float
+        The crew's cutting step the cut lengths are rounded to (0: exact). [m]
+    dropper_type : DropperType, optional
+        The dropper type's allowances (default: the built-in one,
+        :data:`~presag_opt.system.dropper_type.DEFAULT_DROPPER_TYPE`).
     """
 
     rule: str = "proportional"
@@ -88,6 +95,8 @@ class LineOptions:
     step: float = 1.0
     geometry_tolerance: float = 5e-5
     workers: int = 2
+    round_step: float = 0.0
+    dropper_type: DropperType | None = None
 
     def __post_init__(self) -> None:
         if self.rule not in PRESAG_RULES:
@@ -99,6 +108,7 @@ class LineOptions:
         if not 1e-6 <= self.geometry_tolerance <= 1e-3:
             raise ModelError(f"geometry_tolerance = {self.geometry_tolerance * 1e3:g} mm is outside the valid range "
                              "[0.001, 1] mm")
+        check_step(self.round_step)
         if not 1 <= self.workers <= 64:
             raise ModelError(f"workers = {self.workers} is outside the valid range [1, 64]")
 
@@ -177,8 +187,9 @@ def build_line(sizing: LineSizing, presag_rel: float, progress: Callable[[str], 
         Called with a short message as sections finish.
     """
     options = sizing.options
+    dropper_type = options.dropper_type or load_dropper_type()
     jobs = [(size.catenary, sec, size, presag_rel, options.rule, sizing.band, sizing.settings,
-             sizing.survey.working_width, sizing.levels, options.step)
+             sizing.survey.working_width, sizing.levels, options.step, dropper_type, options.round_step)
             for sec, size in zip(sizing.sections, sizing.sizing)]
     failures = list(sizing.failures)
     built = _kept(_in_parallel(_build_section, jobs, options.workers, "building", progress),
@@ -220,8 +231,11 @@ def design_line(
 
 
 def _kept(results: list, sections: list[SurveySection], stage: str, failures: list[Evaluation]) -> list:
-    """The sections' results with each failed one (an error in its place) recorded in ``failures`` and
-    set to None; every one failing raises the first error."""
+    """The sections' results with each failed one (an error in its place, in the survey's terms:
+    :func:`~presag_opt.design.survey_terms.in_survey_terms`) recorded in ``failures`` and set to None;
+    every one failing raises the first error."""
+    results = [in_survey_terms(r, sec) if isinstance(r, PresagError) else r
+               for r, sec in zip(results, sections, strict=True)]
     errors = [r for r in results if isinstance(r, PresagError)]
     if errors and len(errors) == len(results):
         raise errors[0]
@@ -303,7 +317,7 @@ def _span_presags(catenary: Catenary, sizing: SectionSizing, presag_rel: float, 
 
 def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSizing, presag_rel: float,
                    rule: str, band: OperatingBand, settings: StaticSettings, working_width: float, levels,
-                   step: float) -> SectionDesign:
+                   step: float, dropper_type: DropperType, round_step: float) -> SectionDesign:
     """Pass 2 of one section: form-find at the pre-sag to build; elasticity as built; spans (each sized
     one with its own tolerance from the span rule, where there is one), droppers, rule checks."""
     presag = _span_presags(catenary, sizing, presag_rel, rule)
@@ -316,7 +330,6 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
         built_model = catenary.with_presag_profile(depths)
     state = form_find(built_model, settings)
     as_built = section_curves(state, levels, step)
-    disc = state.discretisation
     ids = [m.mast for m in section.masts]
     centre = 0.5 * sum(band.mean_force_band())
     top = band.mean_force_band()[1]
@@ -324,6 +337,7 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     arm = state.steady_arm_forces()
     inner = _sized_spans(catenary)
     own = sizing.span_presags
+    gradients, changes = span_gradients(section)
 
     def span_design(s: int) -> SpanDesign:
         termination = s == 0  # from_mast of the first span is the section's termination
@@ -336,20 +350,11 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
             static_uplift=None if termination else top * float(curves[s].elasticity[0]), sized=s in inner,
             tolerance=(float(own.tolerance[s, 0]), float(own.tolerance[s, 1])) if checked else None,
             robust_presag=float(own.presag[s]) if checked else None,
-            note="" if s in inner else END_SPAN_NOTE)
+            note="" if s in inner else END_SPAN_NOTE, uniformity=curves[s].uniformity, curve=curves[s],
+            gradient=float(gradients[s]), gradient_change=None if s == 0 else float(changes[s - 1]))
 
     spans = tuple(span_design(s) for s in range(len(lengths)))
-    cut = state.params.unstretched_length[disc.dropper_elements]
-    cw_nodes = disc.axial.node_a[disc.dropper_elements]
-    droppers, count = [], {}
-    stitch = disc.stitch_dropper if disc.stitch_dropper is not None else np.zeros(len(cut), dtype=bool)
-    for span, x, length, node, on_stitch in zip(disc.dropper_span, disc.dropper_position, cut, cw_nodes, stitch):
-        count[span] = count.get(span, 0) + 1
-        droppers.append(DropperDesign(
-            section=section.section, span=int(span) + 1, from_mast=ids[span], to_mast=ids[span + 1],
-            dropper=count[span], position=float(x), length=float(length),
-            contact_wire_height=float(state.positions[node, 2]),
-            presag=float(built_model.presag_depth(int(span), np.array([x]))[0]), stitch=bool(on_stitch)))
+    droppers = section_droppers(state, built_model, section, dropper_type, round_step)
     rules = check_rules(section, built_model, droppers, band, working_width)
     return SectionDesign(section=section.section, catenary=built_model, sizing=sizing, spans=spans,
                          droppers=tuple(droppers), rules=rules)

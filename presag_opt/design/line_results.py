@@ -16,6 +16,7 @@ from presag_opt.design.evidence import DeltaERule, QuasiStaticRobust
 from presag_opt.design.line_rules import RuleCheck
 from presag_opt.design.recommendation import LayoutRecommendation
 from presag_opt.design.section import SectionElasticity
+from presag_opt.elasticity import ElasticityCurve
 from presag_opt.evaluation_store import Evaluation
 from presag_opt.system.catenary import Catenary
 from presag_opt.system.survey import Survey
@@ -24,6 +25,41 @@ if TYPE_CHECKING:
     from presag_opt.design.line import LineOptions
     from presag_opt.static.discretisation import StaticSettings
     from presag_opt.system.survey import SurveySection
+
+
+@dataclass(frozen=True, kw_only=True)
+class RoundingEffect:
+    """What rounding the cut lengths to the crew's step does to one section, by quasi-static Monte Carlo.
+
+    Every dropper's cut length gets an independent error uniform in ±step/2 (the rounding error of a
+    length that does not fall on the step); the section's design is its sized spans' quasi-static robust
+    parabolas, on the path model the span rule sized them with.
+
+    Attributes
+    ----------
+    step : float
+        The cutting step. [m]
+    waviness_exact : float
+        Worst-case path waviness over the F_m band of the exact schedule. [m]
+    waviness_p95 : float
+        Its P95 over the rounded builds. [m]
+    waviness_p95_ci : tuple of float
+        The 95 % order-statistic interval of that P95. [m]
+    presag_error_p95 : float
+        P95 of the largest mid-span pre-sag error over the sized spans from rounding alone. [m]
+    samples : int
+        Realisations. [-]
+    seed : int
+        Seed of the draws. [-]
+    """
+
+    step: float
+    waviness_exact: float
+    waviness_p95: float
+    waviness_p95_ci: tuple[float, float]
+    presag_error_p95: float
+    samples: int
+    seed: int
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -43,6 +79,8 @@ class SpanPresags:
         The mean of the sized spans' tolerance ends in S_rel. [-]
     method : str
         What produced it (shown with the decision).
+    rounding : RoundingEffect or None
+        The effect of rounding the cut lengths to the crew's step (None: not rounded).
     """
 
     presag: np.ndarray
@@ -50,6 +88,7 @@ class SpanPresags:
     presag_rel: float
     presag_rel_tolerance: tuple[float, float]
     method: str
+    rounding: RoundingEffect | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -120,6 +159,10 @@ class LineSizing:
         """Lengths of the spans that size the pre-sag, every section. [m]"""
         return tuple(float(s.recommendation.at_band_low.span_lengths[i])
                      for s in self.sizing for i in range(len(s.recommendation.at_band_low.spans)))
+
+    def rounding(self) -> tuple[tuple[str, RoundingEffect], ...]:
+        """(section, its :class:`RoundingEffect`) of every section (empty where the cut lengths are exact)."""
+        return rounding_by_section(self.sections, self.sizing)
 
     def worst_section(self) -> int:
         """Index of the section with the largest static steady-arm uplift estimate of its sized spans."""
@@ -195,6 +238,14 @@ class SpanDesign:
         The span's own quasi-static robust pre-sag (with ``tolerance``). [m]
     note : str
         Why the span is not sized or checked (empty for a sized span).
+    uniformity : float
+        (e_max − e_min)/(e_max + e_min) along the span as built, at the band-centre F_m. [-]
+    curve : ElasticityCurve or None
+        The elasticity e(x) along the span as built, at the band-centre F_m.
+    gradient : float
+        Contact-wire gradient between the span's masts, (h_to − h_from)/l, + rising. [-]
+    gradient_change : float or None
+        Change of gradient from the section's previous span (None for its first span). [-]
     """
 
     section: str
@@ -213,6 +264,10 @@ class SpanDesign:
     tolerance: tuple[float, float] | None = None
     robust_presag: float | None = None
     note: str = ""
+    uniformity: float = 0.0
+    curve: ElasticityCurve | None = None
+    gradient: float = 0.0
+    gradient_change: float | None = None
 
     def margins(self) -> tuple[float, float] | None:
         """Distance of the built pre-sag above the low and below the high end of its own tolerance
@@ -235,14 +290,23 @@ class DropperDesign:
     position : float
         Distance from ``from_mast``. [m]
     length : float
-        Unstretched length between the messenger and contact-wire clamp points (cut length). [m]
+        Unstretched length between the messenger and contact-wire clamp points (clamp to clamp). [m]
     contact_wire_height : float
         Contact-wire height above the rail at the dropper in the built equilibrium. [m]
     presag : float
         Depth of the contact wire below the straight line between its supports there. [m]
     stitch : bool
-        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its cut length is
-        between the stitch-wire and contact-wire clamp points).
+        A stitch dropper: it hangs from the stitch wire, not from the messenger wire (its clamp-to-clamp
+        length is between the stitch-wire and contact-wire clamp points).
+    chainage : float
+        Absolute chainage of the dropper. [m]
+    messenger_height : float
+        Height of the wire it hangs from (messenger or stitch wire) above the rail there, built. [m]
+    lateral : float
+        Lateral position of the contact wire at the dropper from the track centre line, + to the left. [m]
+    cut_length : float
+        The length to cut: ``length`` plus the dropper type's terminal and loop allowances, rounded to
+        the crew's step (:meth:`presag_opt.system.dropper_type.DropperType.cut_length`). [m]
     """
 
     section: str
@@ -255,6 +319,15 @@ class DropperDesign:
     contact_wire_height: float
     presag: float
     stitch: bool = False
+    chainage: float = 0.0
+    messenger_height: float = 0.0
+    lateral: float = 0.0
+    cut_length: float = 0.0
+
+    @property
+    def id(self) -> str:
+        """The dropper's id on a crew's sheet: section/from–to/number, e.g. ``S1/M3-M4/5``."""
+        return f"{self.section}/{self.from_mast}-{self.to_mast}/{self.dropper}"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -340,3 +413,21 @@ class LineDesign:
     def rules(self) -> tuple[RuleCheck, ...]:
         """Every design-rule check."""
         return tuple(r for sec in self.sections for r in sec.rules)
+
+    def rounding(self) -> tuple[tuple[str, RoundingEffect], ...]:
+        """(section, its :class:`RoundingEffect`) of every section (empty where the cut lengths are exact)."""
+        return rounding_by_section(self.sections, [sec.sizing for sec in self.sections])
+
+
+def rounding_by_section(sections, sizing) -> tuple[tuple[str, RoundingEffect], ...]:
+    """(section id, rounding effect) of the sections whose sizing carries one.
+
+    Parameters
+    ----------
+    sections : sequence
+        Objects with a ``section`` id (survey sections or designed ones).
+    sizing : sequence of SectionSizing
+        Their sizing, in the same order.
+    """
+    return tuple((sec.section, size.span_presags.rounding) for sec, size in zip(sections, sizing, strict=True)
+                 if size.span_presags is not None and size.span_presags.rounding is not None)

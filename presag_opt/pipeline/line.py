@@ -24,9 +24,15 @@ from pathlib import Path
 
 from presag_opt.design.band import OperatingBand
 from presag_opt.design.decision import Decision, decide
-from presag_opt.design.evidence import DynamicUpliftCheck, Evidence, check_uplift_limit, crew_tolerance
+from presag_opt.design.evidence import (
+    DynamicUpliftCheck,
+    Evidence,
+    InstallationTolerance,
+    check_uplift_limit,
+    crew_tolerance,
+)
 from presag_opt.design.line import LineOptions, build_line, size_line
-from presag_opt.design.line_results import LineDesign, LineSizing, SpanDesign
+from presag_opt.design.line_results import LineDesign, LineSizing, RoundingEffect, SpanDesign
 from presag_opt.design.speed_range import STEADY_ARM_UPLIFT_LIMIT, highest_static_force_static
 from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
 from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
@@ -170,6 +176,34 @@ def span_flag(span: SpanDesign, crew: float) -> str:
     return SPAN_FLAGS[2] if smallest < 0 else SPAN_FLAGS[1] if smallest < crew else SPAN_FLAGS[0]
 
 
+def with_rounding(crew: InstallationTolerance,
+                  rounding: Sequence[tuple[str, RoundingEffect]]) -> InstallationTolerance:
+    """The crew tolerance a decision uses when the cut lengths are rounded: never below what rounding alone
+    causes (the largest P95 mid-span pre-sag error of the sections' rounding Monte Carlo).
+
+    The crew's figure (or the assumed one) stands where it is at least that; otherwise rounding sets the
+    tolerance, and its source says so.
+
+    Parameters
+    ----------
+    crew : InstallationTolerance
+        The crew's tolerance as set or assumed.
+    rounding : sequence of (str, RoundingEffect)
+        Each section's rounding effect (:meth:`~presag_opt.design.line_results.LineSizing.rounding`).
+    """
+    if not rounding:
+        return crew
+    section, worst = max(rounding, key=lambda item: item[1].presag_error_p95)
+    if crew.half_width >= worst.presag_error_p95:
+        return crew
+    step = worst.step * 1e3
+    return InstallationTolerance(
+        half_width=worst.presag_error_p95, kind="monte-carlo",
+        source=f"P95 of the mid-span pre-sag error from rounding the cut lengths to {step:g} mm (uniform ±{step / 2:g} "
+               f"mm on every dropper, {worst.samples} Monte Carlo builds, section {section}), more than the crew's "
+               f"±{crew.half_width * 1e3:.1f} mm ({crew.source})")
+
+
 def line_dynamic_check(sizing: LineSizing, presags: Sequence[float], pantograph: Pantograph,
                        progress: Callable[[str], None] | None = None) -> LineDynamicCheck:
     """Simulate the band's worst points (top speed, lowest and highest static force) on the worst section
@@ -249,7 +283,9 @@ def answer_line(
         pantograph = source if isinstance(source, Pantograph) else load_pantograph(source)
     # a stored study is read before any form-finding: a missing or foreign store fails at once
     validity = None if study is None else stored_sweep(study, band, base.contact_wire.wave_speed)
-    sizing = size_line(survey, base, band, options, progress=progress, span_rule=RobustSpanRule(within=within))
+    sizing = size_line(survey, base, band, options, progress=progress,
+                       span_rule=RobustSpanRule(within=within, round_step=options.round_step))
+    installation = with_rounding(installation, sizing.rounding())
     delta_e = sizing.delta_e()
     quasi = sizing.quasi_static_robust(within)
     worst = sizing.sizing[sizing.worst_section()].catenary

@@ -8,14 +8,15 @@ here serve the whole band instead. The path waviness R is convex in the dropper 
 - mean:     min_d Σ_k π_k R(d, F_k),
 - CVaR_α:   min_d CVaR_α over the scenarios (Rockafellar & Uryasev 2000),
 
-are linear programs (solved with cvxpy and Clarabel, built once with the scenario uplift profiles as
-parameters, so re-solves reuse the compilation). With several analysed spans, a scenario's loss is
-the waviness of its worst span.
+are convex. With several analysed spans, a scenario's loss is the waviness of its worst span.
 
 Design shapes: ``parabola`` — one relative pre-sag S_rel for every span (S ∝ span length, Swedish
-practice); ``per-dropper`` — one depth per dropper (optionally symmetric in each span) within the
-limits of :mod:`presag_opt.robust.buildability`, put on the construction step by
-:mod:`presag_opt.robust.rounding`. The tolerance interval is :mod:`presag_opt.robust.tolerance`.
+practice), whose objective is a convex function of that one number, minimised exactly by
+:mod:`presag_opt.robust.parabola`; ``per-dropper`` — one depth per dropper (optionally symmetric in
+each span) within the limits of :mod:`presag_opt.robust.buildability`, a linear program (solved with
+cvxpy and Clarabel, built once with the scenario uplift profiles as parameters, so re-solves reuse the
+compilation), put on the construction step by :mod:`presag_opt.robust.rounding`. The tolerance
+interval is :mod:`presag_opt.robust.tolerance`.
 
 References
 ----------
@@ -33,6 +34,7 @@ import numpy as np
 
 from presag_opt.errors import ConvergenceError, ModelError
 from presag_opt.robust.buildability import Buildability, _span_kinks
+from presag_opt.robust.parabola import ParabolaObjective
 from presag_opt.robust.path import PathModel
 from presag_opt.robust.rounding import _round_to_step
 from presag_opt.robust.scenarios import ForceScenarios, Risk
@@ -69,7 +71,8 @@ class RobustDesign:
     rounding : str
         How the profile was put on the construction step (``none``, ``exhaustive``, ``greedy``).
     solver_status : str
-        cvxpy/Clarabel status of the solve (``not solved`` for a given design).
+        Status of the optimisation: Clarabel's through cvxpy for a per-dropper profile, ``optimal`` for
+        the exact search of a parabola, ``not solved`` for a given design.
     """
 
     shape: str
@@ -112,11 +115,9 @@ def _risk_objective(loss: cp.Expression, weights: cp.Parameter, risk: Risk) -> t
     return eta + (weights @ excess) / (1.0 - risk.level), [excess >= loss - eta]
 
 
-def _design_map(path: PathModel, shape: str, symmetric: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Depths as an affine map of the design variables: depths = M @ variables + c."""
+def _design_map(path: PathModel, symmetric: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Depths of a per-dropper profile as an affine map of the design variables: depths = M @ variables + c."""
     n = len(path.dropper_span)
-    if shape == "parabola":
-        return path.parabola_depths(1.0)[:, None], np.zeros(n)
     if not symmetric:
         return np.eye(n), np.zeros(n)
     columns, seen = [], {}
@@ -158,17 +159,16 @@ def _peak_to_peak(path: PathModel, z: cp.Expression, uplift: cp.Parameter) -> tu
     return top - bottom, [heights <= top @ incidence.T, heights >= bottom @ incidence.T]
 
 
-def _problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: Buildability | None):
-    """The LP, built once per (shape, risk, scenario count, buildability) and kept with the path."""
-    return path.problem("robust", (shape, risk.label, n_scenarios, build),
-                        lambda: _build_problem(path, shape, risk, n_scenarios, build))
+def _problem(path: PathModel, risk: Risk, n_scenarios: int, build: Buildability):
+    """The per-dropper LP, built once per (risk, scenario count, buildability) and kept with the path."""
+    return path.problem("robust", ("per-dropper", risk.label, n_scenarios, build),
+                        lambda: _build_problem(path, risk, n_scenarios, build))
 
 
-def _build_problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, build: Buildability | None):
+def _build_problem(path: PathModel, risk: Risk, n_scenarios: int, build: Buildability):
     import cvxpy as cp  # on first use: importing it takes about a second
 
-    symmetric = build.symmetric if (build and shape == "per-dropper") else False
-    design_map, offset = _design_map(path, shape, symmetric)
+    design_map, offset = _design_map(path, build.symmetric)
     variables = cp.Variable(design_map.shape[1])
     depths = design_map @ variables + offset
     uplift = cp.Parameter((n_scenarios, len(path.node_span)), name="uplift")
@@ -185,21 +185,17 @@ def _build_problem(path: PathModel, shape: str, risk: Risk, n_scenarios: int, bu
     constraints.append(loss[:, None] @ np.ones((1, len(path.spans))) >= spread)
     objective, extra = _risk_objective(loss, weights, risk)
     constraints += extra
-    if shape == "parabola":
-        constraints.append(variables >= 0.0)
-    else:
-        build = build or Buildability()
-        lengths = np.asarray(path.state.catenary.layout.span_lengths)[path.dropper_span]
-        constraints += [depths >= 0.0, depths <= build.max_depth_rel * lengths]
-        constraints.append(
-            path.dropper_length + path.length_sensitivity @ (depths - path.reference_depth) >= build.min_dropper_length
-        )
-        for idx, pos in _span_kinks(path):
-            length = path.state.catenary.layout.span_lengths[int(path.dropper_span[idx[0]])]
-            full_pos = np.concatenate([[0.0], pos, [length]])
-            full = cp.hstack([cp.Constant(np.zeros(1)), depths[idx], cp.Constant(np.zeros(1))])
-            slope = cp.multiply(full[1:] - full[:-1], 1.0 / np.diff(full_pos))
-            constraints.append(cp.abs(slope[1:] - slope[:-1]) <= build.max_kink)
+    lengths = np.asarray(path.state.catenary.layout.span_lengths)[path.dropper_span]
+    constraints += [depths >= 0.0, depths <= build.max_depth_rel * lengths]
+    constraints.append(
+        path.dropper_length + path.length_sensitivity @ (depths - path.reference_depth) >= build.min_dropper_length
+    )
+    for idx, pos in _span_kinks(path):
+        length = path.state.catenary.layout.span_lengths[int(path.dropper_span[idx[0]])]
+        full_pos = np.concatenate([[0.0], pos, [length]])
+        full = cp.hstack([cp.Constant(np.zeros(1)), depths[idx], cp.Constant(np.zeros(1))])
+        slope = cp.multiply(full[1:] - full[:-1], 1.0 / np.diff(full_pos))
+        constraints.append(cp.abs(slope[1:] - slope[:-1]) <= build.max_kink)
     problem = cp.Problem(cp.Minimize(objective), constraints)
     if not problem.is_dpp():
         raise AssertionError("robust pre-sag LP must be DPP (parameters enter affinely)")
@@ -221,6 +217,29 @@ def _solve(problem: cp.Problem) -> str:
     if problem.status != cp.OPTIMAL:
         raise ConvergenceError(f"robust pre-sag: solver status {problem.status!r}", {"status": problem.status})
     return problem.status
+
+
+def check_forces(path: PathModel, scenarios: ForceScenarios) -> None:
+    """Refuse scenario forces outside the force levels whose elasticity the path model holds.
+
+    Parameters
+    ----------
+    path : PathModel
+        Path model of the section.
+    scenarios : ForceScenarios
+        Mean contact forces designed for. [N]
+
+    Raises
+    ------
+    ModelError
+        A force below the lowest or above the highest level (the elasticity is not extrapolated).
+    """
+    levels = path.section.force_levels
+    if scenarios.forces.min() < levels[0] or scenarios.forces.max() > levels[-1]:
+        raise ModelError(
+            f"scenario forces {scenarios.forces.min():g}…{scenarios.forces.max():g} N lie outside the computed "
+            f"elasticity force levels [{levels[0]:g}, {levels[-1]:g}] N"
+        )
 
 
 def evaluate_design(
@@ -298,21 +317,16 @@ def robust_presag(
     risk = risk or Risk()
     if shape not in SHAPES:
         raise ModelError(f"shape = {shape!r} is not one of {', '.join(SHAPES)}")
-    levels = path.section.force_levels
-    if scenarios.forces.min() < levels[0] or scenarios.forces.max() > levels[-1]:
-        raise ModelError(
-            f"scenario forces {scenarios.forces.min():g}…{scenarios.forces.max():g} N lie outside the computed "
-            f"elasticity force levels [{levels[0]:g}, {levels[-1]:g}] N"
-        )
-    build = (buildability or Buildability()) if shape == "per-dropper" else None
-    problem, variables, depths, uplift, weights, design_map = _problem(path, shape, risk, len(scenarios.forces), build)
+    check_forces(path, scenarios)
+    if shape == "parabola":
+        presag_rel, _ = ParabolaObjective.of(path, scenarios, risk).minimum()
+        return evaluate_design(path, path.parabola_depths(presag_rel), scenarios, shape=shape, risk=risk,
+                               presag_rel=presag_rel, solver_status="optimal")
+    build = buildability or Buildability()
+    problem, variables, depths, uplift, weights, design_map = _problem(path, risk, len(scenarios.forces), build)
     uplift.value = path.uplift(scenarios.forces)
     weights.value = scenarios.weights
     status = _solve(problem)
-    if shape == "parabola":
-        presag_rel = float(variables.value[0])
-        return evaluate_design(path, path.parabola_depths(presag_rel), scenarios, shape=shape, risk=risk,
-                               presag_rel=presag_rel, solver_status=status)
     continuous = evaluate_design(path, depths.value, scenarios, shape=shape, risk=risk)
     rounded, how = _round_to_step(path, variables.value, design_map, scenarios, risk, build)
     return evaluate_design(path, rounded, scenarios, shape=shape, risk=risk, solver_status=status,

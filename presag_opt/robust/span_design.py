@@ -33,7 +33,7 @@ from presag_opt.design.band import OperatingBand
 from presag_opt.design.line_results import SpanPresags
 from presag_opt.design.section import SectionElasticity, section_elasticity
 from presag_opt.errors import ModelError
-from presag_opt.robust.lp import robust_presag
+from presag_opt.robust.cut_rounding import rounding_effect
 from presag_opt.robust.path import PathModel, build_path_model
 from presag_opt.robust.scenarios import ForceScenarios
 from presag_opt.robust.tolerance import check_within, tolerance_band
@@ -41,6 +41,7 @@ from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
 from presag_opt.static.form_finding import form_find
 from presag_opt.system.catenary import Catenary
+from presag_opt.system.dropper_type import check_step
 
 MAX_PRESAG_REL = 0.005
 """Largest relative pre-sag a model takes (5 ‰); a span's robust pre-sag above it is refused. [-]"""
@@ -88,11 +89,9 @@ def span_robust_designs(path: PathModel, scenarios: ForceScenarios, within: floa
     """
     out = []
     for span in path.spans if spans is None else spans:
-        alone = path.of_span(int(span))
-        best = robust_presag(alone, scenarios)
-        band = tolerance_band(alone, scenarios, within)
-        out.append(SpanRobust(span=int(span), presag_rel=best.presag_rel, tolerance=(band.low, band.high),
-                              worst_case_waviness=best.worst_case_waviness, within=within))
+        band = tolerance_band(path.of_span(int(span)), scenarios, within)
+        out.append(SpanRobust(span=int(span), presag_rel=band.best, tolerance=(band.low, band.high),
+                              worst_case_waviness=band.best_objective, within=within))
     return tuple(out)
 
 
@@ -106,13 +105,18 @@ class RobustSpanRule:
         Allowed loss of each span's tolerance interval. [-]
     relinearise : bool
         Size again on the geometry and elasticity at the first pre-sags (as the robust study does).
+    round_step : float
+        The crew's cutting step: above 0, the effect of rounding every cut length to it on the spans'
+        robust designs (:func:`~presag_opt.robust.cut_rounding.rounding_effect`, on the same path model). [m]
     """
 
     within: float = 0.10
     relinearise: bool = True
+    round_step: float = 0.0
 
     def __post_init__(self) -> None:
         check_within(self.within)
+        check_step(self.round_step)
 
     def __call__(self, state: EquilibriumState, elasticity: SectionElasticity, sized: Sequence[int],
                  band: OperatingBand, settings: StaticSettings | None = None) -> SpanPresags:
@@ -134,13 +138,22 @@ class RobustSpanRule:
         """
         scenarios = ForceScenarios.band(*band.mean_force_band())
         catenary = state.catenary
-        designs = span_robust_designs(build_path_model(state, _only(elasticity, sized)), scenarios, self.within)
+        path = build_path_model(state, _only(elasticity, sized))
+        designs = span_robust_designs(path, scenarios, self.within)
         if self.relinearise:
             again = form_find(_profiled(catenary, designs), settings)
             curves = section_elasticity(again, force_levels=elasticity.force_levels, spans=tuple(sized),
                                         step=elasticity.step, elasticity_method=elasticity.elasticity_method)
-            designs = span_robust_designs(build_path_model(again, curves), scenarios, self.within)
-        return _span_presags(catenary, designs)
+            path = build_path_model(again, curves)
+            designs = span_robust_designs(path, scenarios, self.within)
+        rounding = None
+        if self.round_step > 0.0:
+            rel = _rel_of_every_span(catenary, designs)
+            lengths = np.asarray(catenary.layout.span_lengths)[path.dropper_span]
+            t = path.dropper_fraction
+            depths = rel[path.dropper_span] * lengths * 4.0 * t * (1.0 - t)
+            rounding = rounding_effect(path, depths, scenarios, self.round_step)
+        return dataclasses.replace(_span_presags(catenary, designs), rounding=rounding)
 
 
 def _only(elasticity: SectionElasticity, spans: Sequence[int]) -> SectionElasticity:

@@ -1,7 +1,8 @@
 """Installation tolerance: the interval of parabolic pre-sag within a stated loss of the optimum.
 
-Holds :func:`tolerance_band` (two linear programs over the minimax constraints) and its result. The
-minimax optimum it refers to comes from :func:`presag_opt.robust.lp.robust_presag`.
+Holds :func:`tolerance_band` (the sublevel interval of the parabolic designs' worst-case waviness,
+found exactly by :class:`presag_opt.robust.parabola.ParabolaObjective`) and its result. The minimax
+optimum it refers to is :func:`presag_opt.robust.lp.robust_presag`'s parabola (the same search).
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.errors import ModelError
-from presag_opt.robust.lp import _peak_to_peak, _solve, robust_presag
+from presag_opt.robust.lp import check_forces
+from presag_opt.robust.parabola import ParabolaObjective
 from presag_opt.robust.path import PathModel
 from presag_opt.robust.scenarios import ForceScenarios, Risk
 
@@ -65,9 +67,9 @@ def tolerance_band(
 ) -> ToleranceBand:
     """Interval of parabolic S_rel whose worst-case waviness stays within ``within`` of the best.
 
-    Two LPs over the same constraints: minimise and maximise S_rel subject to
-    max_k R(S_rel, F_k) ≤ (1 + within)·R*, with R* the minimax optimum. The worst-case waviness is
-    convex in S_rel, so the feasible set is exactly this interval.
+    The set {S_rel ≥ 0 : max_k R(S_rel, F_k) ≤ (1 + within)·R*}, R* the minimax optimum. The
+    worst-case waviness is convex in S_rel, so the set is one interval; its ends are found by
+    bisection on the exact waviness (:meth:`~presag_opt.robust.parabola.ParabolaObjective.sublevel_interval`).
 
     Parameters
     ----------
@@ -78,28 +80,10 @@ def tolerance_band(
     within : float
         Allowed relative loss, e.g. 0.10 for 10 %. [-]
     """
-    import cvxpy as cp  # on first use: importing it takes about a second
-
     check_within(within)
-    best = robust_presag(path, scenarios, shape="parabola", risk=Risk())
-
-    def build():
-        s = cp.Variable()
-        uplift = cp.Parameter((len(scenarios.forces), len(path.node_span)))
-        bound = cp.Parameter(nonneg=True)
-        shape = path.sensitivity @ path.parabola_depths(1.0)
-        z = path.base_height - path.sensitivity @ path.reference_depth + shape * s
-        spread, bounds = _peak_to_peak(path, z, uplift)
-        constraints = [*bounds, spread <= bound, s >= 0]
-        return cp.Problem(cp.Minimize(s), constraints), cp.Problem(cp.Maximize(s), constraints), s, uplift, bound
-
-    lower, upper, s, uplift, bound = path.problem("tolerance", len(scenarios.forces), build)
-    uplift.value = path.uplift(scenarios.forces)
-    # a hair above (1 + within)·R* so the optimum itself is always feasible despite solver tolerance
-    bound.value = (1.0 + within) * best.worst_case_waviness * (1 + 1e-7) + 1e-9
-    _solve(lower)
-    low = float(s.value)
-    _solve(upper)
-    high = float(s.value)
-    return ToleranceBand(low=low, high=high, best=best.presag_rel, best_objective=best.worst_case_waviness,
-                         within=within, forces=scenarios.forces)
+    check_forces(path, scenarios)
+    objective = ParabolaObjective.of(path, scenarios, Risk())
+    best, worst = objective.minimum()
+    low, high = objective.sublevel_interval(best, (1.0 + within) * worst)
+    return ToleranceBand(low=low, high=high, best=best, best_objective=worst, within=within,
+                         forces=scenarios.forces)

@@ -15,6 +15,10 @@ Columns (the unit is in each name; the order is free):
 ``steady_arm``              ``pull-off`` (arm in tension) or ``push-off`` (arm in compression)
 ``section``                 optional: tension-section id (default: one section); a section's masts are
                             consecutive rows
+``cant_mm``                 optional: cant of the track at the mast, the outer rail of the curve (of the
+                            span that starts or ends there) raised by it, 0 to 200 mm; with cant the
+                            stagger and the height are measured as the pantograph sees them, from the
+                            axis perpendicular to the track plane (:mod:`presag_opt.system.cant`) [mm]
 ``stitched``                optional: whether the support carries a stitch wire: ``yes``/``no``,
                             ``true``/``false`` or ``1``/``0`` (any case; empty: not given). The stitch
                             wire is the system file's ``[stitch_wire]``; the end masts of a section are
@@ -43,6 +47,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from presag_opt.errors import ModelError
+from presag_opt.system.cant import MAX_CANT, level_frame
 from presag_opt.system.catenary import Catenary, SpanLayout
 from presag_opt.system.masts import (
     CONTACT_WIRE_HEIGHT_RANGE,
@@ -57,7 +62,7 @@ COLUMNS = ("mast", "chainage_m", "stagger_mm", "contact_wire_height_m", "system_
            "steady_arm")
 """Required columns of a survey table."""
 
-OPTIONAL_COLUMNS = ("section", "stitched")
+OPTIONAL_COLUMNS = ("section", "stitched", "cant_mm")
 """Optional columns of a survey table."""
 
 DEFAULT_WORKING_WIDTH = 0.40
@@ -102,6 +107,9 @@ class SurveyMast:
         Tension-section id.
     stitched : bool or None
         Whether the support carries a stitch wire; None: not given (the system decides).
+    cant : float
+        Cant of the track at the mast, the outer rail of the curve raised by it (0: none); the stagger and
+        the height are then in the canted track frame (:mod:`presag_opt.system.cant`). [m]
     row : str
         Where the mast was read (``file, row n``), for messages.
     """
@@ -115,6 +123,7 @@ class SurveyMast:
     steady_arm: str
     section: str = DEFAULT_SECTION
     stitched: bool | None = None
+    cant: float = 0.0
     row: str = ""
 
     def __post_init__(self) -> None:
@@ -149,11 +158,30 @@ class SurveySection:
         """Radius of each span (that of its first mast). [m]"""
         return tuple(m.curve_radius for m in self.masts[:-1])
 
+    def cant_directions(self) -> tuple[float, ...]:
+        """s_R of every mast: the sign of the curve of the span that starts there, else of the one that ends
+        there (+1 left-hand, −1 right-hand, 0 on straight track; :mod:`presag_opt.system.cant`). [-]"""
+        radii = self.curve_radii
+        out = []
+        for i in range(len(self.masts)):
+            here = [r for r in (radii[i] if i < len(radii) else 0.0, radii[i - 1] if i else 0.0) if r]
+            out.append(math.copysign(1.0, here[0]) if here else 0.0)
+        return tuple(out)
+
     def mast_geometry(self) -> MastGeometry:
-        """Per-mast stagger, heights and steady-arm types for the static model."""
+        """Per-mast stagger, heights and steady-arm types for the static model, in the level frame: a canted
+        mast's surveyed stagger and height (in the track frame) turned by its cant
+        (:func:`presag_opt.system.cant.level_frame`; the system height stays vertical)."""
+        level = [level_frame(m.stagger, m.contact_wire_height, m.cant, d)
+                 for m, d in zip(self.masts, self.cant_directions())]
+        for m, (y, _) in zip(self.masts, level):
+            if abs(y) > STAGGER_LIMIT:
+                raise SurveyError(f"{m.row or f'mast {m.mast!r}'}, column 'cant_mm': {m.cant * 1e3:g} mm of cant puts the "
+                                  f"contact wire {y * 1e3:.0f} mm from the vertical through the track centre, beyond the "
+                                  f"model's ±{STAGGER_LIMIT * 1e3:g} mm; register the wire towards the outside of the curve")
         return MastGeometry(
-            stagger=tuple(m.stagger for m in self.masts),
-            contact_wire_height=tuple(m.contact_wire_height for m in self.masts),
+            stagger=tuple(y for y, _ in level),
+            contact_wire_height=tuple(z for _, z in level),
             system_height=tuple(m.system_height for m in self.masts),
             push_off=tuple(m.steady_arm == "push-off" for m in self.masts),
         )
@@ -317,8 +345,13 @@ def survey_from_rows(rows: Iterable[tuple[str, Mapping[str, object]]], *, source
 
 
 def _csv_rows(path: Path) -> list[tuple[str, dict]]:
+    """The rows of a CSV survey; a header without commas but with semicolons (Excel in a locale whose decimal
+    mark is a comma) is read with semicolons between the fields."""
     with path.open(newline="", encoding="utf-8-sig") as handle:
-        reader = csv.DictReader(handle)
+        first = handle.readline()
+        handle.seek(0)
+        delimiter = ";" if ";" in first and "," not in first else ","
+        reader = csv.DictReader(handle, delimiter=delimiter)
         _check_header(path.name, reader.fieldnames or [])
         rows = []
         for row in reader:
@@ -329,10 +362,8 @@ def _csv_rows(path: Path) -> list[tuple[str, dict]]:
 
 
 def _xlsx_rows(path: Path) -> list[tuple[str, dict]]:
-    try:
-        import openpyxl
-    except ImportError as exc:  # an optional dependency
-        raise SurveyError("reading .xlsx needs openpyxl: pip install 'presag-opt[xlsx]'") from exc
+    import openpyxl  # imported here: only an xlsx survey pays for it
+
     try:
         book = openpyxl.load_workbook(path, read_only=True, data_only=True)
     except Exception as exc:  # openpyxl raises several types for files it cannot read
@@ -369,6 +400,11 @@ def _toml_rows(path: Path) -> list[tuple[str, dict]]:
 def _check_header(where: str, header: list[str]) -> None:
     names = [h.strip() for h in header]
     missing = [c for c in COLUMNS if c not in names]
+    if missing and len(names) == 1 and (";" in names[0] or "\t" in names[0]):
+        found = "semicolons" if ";" in names[0] else "tabs"
+        raise SurveyError(f"survey file {where}: the header is one column holding {found} ({names[0][:60]!r}); "
+                          "separate the columns with commas (or semicolons throughout, with none of the header's "
+                          "names holding a comma)")
     if missing:
         raise SurveyError(f"survey file {where}: column {missing[0]!r} is missing (columns: {', '.join(COLUMNS)}, "
                           f"optionally {', '.join(OPTIONAL_COLUMNS)})")
@@ -386,6 +422,7 @@ _NUMBERS = {  # column: (field, factor to SI, unit, may be empty)
     "contact_wire_height_m": ("contact_wire_height", 1.0, "m", False),
     "system_height_m": ("system_height", 1.0, "m", False),
     "curve_radius_m": ("curve_radius", 1.0, "m", True),
+    "cant_mm": ("cant", 1e-3, "mm", True),
 }
 
 
@@ -397,7 +434,7 @@ def _parse_row(label: str, row: Mapping[str, object]) -> tuple[dict, list[str]]:
         errors.append(f"{label}, column 'mast': the mast id is empty")
     out["mast"] = mast
     for column, (name, factor, unit, may_be_empty) in _NUMBERS.items():
-        value = row[column]
+        value = row.get(column)
         text = "" if value is None else str(value).strip()
         if text == "" and may_be_empty:
             out[name] = 0.0
@@ -443,6 +480,10 @@ def _mast_errors(v: Mapping[str, object], working_width: float,
     if r != 0.0 and not MIN_CURVE_RADIUS <= abs(r) <= 1e6:
         errors.append(f"{label}, column 'curve_radius_m': {r:g} m is outside the valid range: 0 or empty (straight), "
                       f"else {MIN_CURVE_RADIUS:g} to 1e6 m in size (+ left-hand, − right-hand)")
+    cant = v.get("cant", 0.0)
+    if not 0.0 <= cant <= MAX_CANT:
+        errors.append(f"{label}, column 'cant_mm': {cant * 1e3:g} mm is outside the valid range [0, {MAX_CANT * 1e3:g}] mm "
+                      "(the outer rail of the curve raised by it)")
     if v["steady_arm"] not in STEADY_ARM_TYPES:
         errors.append(f"{label}, column 'steady_arm': {v['steady_arm']!r} is not a steady-arm type "
                       f"(valid: {', '.join(STEADY_ARM_TYPES)})")
@@ -469,6 +510,11 @@ def _survey_errors(masts: tuple[SurveyMast, ...], working_width: float) -> list[
             errors.append(f"{where}, column 'chainage_m': {b.chainage:g} m makes a span of {step:g} m from mast "
                           f"{a.mast!r}; valid span lengths: [{low:g}, {high:g}] m, i.e. chainage in "
                           f"[{a.chainage + low:g}, {a.chainage + high:g}] m")
+    for i, m in enumerate(masts):
+        curved = [n.curve_radius for n in (masts[i - 1] if i else None, m) if n is not None and n.section == m.section]
+        if m.cant > 0.0 and not any(curved):
+            errors.append(f"{m.row or m.mast}, column 'cant_mm': {m.cant * 1e3:g} mm of cant at a mast between straight "
+                          "spans; cant belongs to a curve (give the curve_radius_m of the span) or is 0")
     order: list[str] = []
     for m in masts:
         if order and order[-1] == m.section:

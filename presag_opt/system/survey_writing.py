@@ -58,7 +58,7 @@ def survey_table(survey: Survey) -> list[dict[str, object]]:
         {"mast": m.mast, "chainage_m": round(m.chainage, 6), "stagger_mm": round(m.stagger * 1e3, 6),
          "contact_wire_height_m": round(m.contact_wire_height, 6), "system_height_m": round(m.system_height, 6),
          "curve_radius_m": round(m.curve_radius, 6), "steady_arm": m.steady_arm, "section": m.section,
-         "stitched": "" if m.stitched is None else "yes" if m.stitched else "no"}
+         "stitched": "" if m.stitched is None else "yes" if m.stitched else "no", "cant_mm": round(m.cant * 1e3, 3)}
         for m in survey.masts
     ]
 

@@ -38,7 +38,7 @@ def designed(presag, tmp_path_factory):
     folder = tmp_path_factory.mktemp("design")
     survey = survey_file(folder, line_rows(bridge_system_height=0.6))
     result = presag("design", str(survey), "--system", "st_9.8_mixed", "--out", "out", "--max-speed", "160",
-                    "--xlsx", "--json", "--progress", *FAST, cwd=folder)
+                    "--xlsx", "--json", "--progress", "--round", "5", *FAST, cwd=folder)
     return folder, result
 
 
@@ -61,6 +61,16 @@ def test_outputs_have_exactly_their_columns_and_json_stays_pure(designed):
     assert summary["decision"]["headline"] in page
     assert page.index("id='decision'") < page.index("id='along'")
     assert "overlap spans between tension sections are not modelled" in page
+    # the crew's sheets: one per section on the page and in the workbook, the cut lengths on the 5 mm step
+    assert page.count("<section class='sheet'") == 2 and "@media print" in page
+    assert all(float(r["cut_length_mm"]) % 5.0 == 0.0 for r in droppers)
+    assert droppers[0]["dropper_id"] == "A/A1-A2/1"
+    import openpyxl
+
+    book = openpyxl.load_workbook(folder / "out" / "line_design.xlsx", read_only=True)
+    assert {"sheet A", "sheet B", "rounding"} <= set(book.sheetnames)
+    assert [r["section"] for r in summary["rounding"]] == ["A", "B"]
+    assert all(r["waviness_p95_rounded_mm"]["value"] > r["waviness_exact_mm"] for r in summary["rounding"])
 
 
 def test_a_lowered_wire_at_a_bridge_makes_droppers_too_short_and_the_design_says_so(designed):
@@ -156,3 +166,14 @@ def test_the_robust_rule_gives_every_span_its_own_presag_and_tolerance(presag, t
     assert (f"each sized span its own quasi-static robust pre-sag, {min(built):.1f}–{max(built):.1f} mm as built "
             "(the end spans at their section's mean)") in summary["headline"]
     assert "× span length" not in summary["headline"] and summary["advice"] == ""
+
+
+def test_a_stagger_sign_slip_names_the_surveys_mast_row_and_column_and_leaves_no_folder(presag, tmp_path):
+    rows = [f"M{20 + i},{50 * i},{-300 if i % 2 == 0 else 300},5.5,1.2,,pull-off,1" for i in range(7)]
+    rows[3] = "M23,150,-300,5.5,1.2,,pull-off,1"  # the slip: the same side as its neighbours
+    result = presag("design", str(survey_file(tmp_path, rows, "slip.csv")), "--system", "st_9.8_mixed", "--out", "out",
+                    *FAST, cwd=tmp_path)
+    assert result.returncode == 2, result.stderr
+    line = result.stderr.strip().splitlines()[-1]
+    assert "steady arm at mast M23 (slip.csv, row 5)" in line and "survey column 'stagger_mm'" in line
+    assert not (tmp_path / "out").exists()

@@ -11,7 +11,7 @@ import pytest
 
 from presag_opt.design import CASE_STUDY_BAND, OperatingBand
 from presag_opt.design.layouts import curve_effects
-from presag_opt.design.line import LineOptions, design_line
+from presag_opt.design.line import LineOptions, build_line, design_line, size_line
 from presag_opt.errors import ModelError
 from presag_opt.report.line_report import dropper_rows
 from presag_opt.static.discretisation import StaticSettings
@@ -167,3 +167,16 @@ def test_a_section_that_cannot_be_designed_is_set_apart_and_the_line_goes_on():
     assert [d.length for d in design.droppers] == [d.length for d in alone.droppers]
     with pytest.raises(ModelError, match="the messenger wire sags to about"):
         design_line(Survey(masts=section("B", 4, 0.4)), base, CASE_STUDY_BAND, options)
+
+
+def test_the_elasticity_as_built_is_the_sizing_pass_s_where_the_built_presag_is_the_base_model_s():
+    base = load_catenary("st_9.8_mixed").with_layout(SpanLayout(span_lengths=(50.0,) * 5))
+    options = LineOptions(element_length=1.0, step=1.0, workers=1)
+    sizing = size_line(survey_of_catenary(base), base, CASE_STUDY_BAND, options)
+    design = build_line(sizing, base.presag_rel)
+    centre = 0.5 * sum(CASE_STUDY_BAND.mean_force_band())
+    sized = dict(zip(sizing.sizing[0].elasticity.spans, sizing.sizing[0].elasticity.curves_at(centre)))
+    for s in design.spans:
+        np.testing.assert_allclose(s.curve.elasticity, sized[s.span - 1].elasticity, rtol=1e-9)
+        assert s.uniformity == pytest.approx(sized[s.span - 1].uniformity, rel=1e-9)
+        assert 0.0 < s.uniformity < 1.0

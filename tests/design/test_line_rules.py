@@ -9,7 +9,14 @@ import pytest
 
 from presag_opt.design import OperatingBand
 from presag_opt.design.band import KMH
-from presag_opt.design.line_rules import RuleCheck, check_rules, lateral_excursion
+from presag_opt.design.line_rules import (
+    RuleCheck,
+    check_rules,
+    gradient_limits,
+    gradient_status,
+    lateral_excursion,
+    span_gradients,
+)
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 from presag_opt.system.survey import Survey, SurveyMast
@@ -51,3 +58,41 @@ def test_each_rule_reports_its_worst_value_and_whether_it_applies():
     assert not height.passed and not height.applies and height.status.startswith("not met (guide only")
     assert checks["contact"].passed
     assert RuleCheck(section="A", rule="r", applies=True, passed=True, worst="").status == "ok"
+
+
+def heights_section(heights, length=50.0):
+    return Survey(masts=tuple(
+        SurveyMast(mast=f"M{i + 1}", chainage=length * i, stagger=0.3 if i % 2 else -0.3, contact_wire_height=h,
+                   system_height=1.2, curve_radius=0.0, steady_arm="pull-off") for i, h in enumerate(heights)
+    )).sections()[0]
+
+
+def test_gradient_limits_follow_the_speed_table():
+    assert gradient_limits(160.0) == (1 / 300, 1 / 600, 160.0)
+    assert gradient_limits(160.1)[:2] == (1 / 500, 1 / 1000)
+    assert gradient_limits(300.0)[:2] == (0.0, 0.0)
+    gradients, changes = span_gradients(heights_section([5.5, 5.5, 5.4, 5.4]))
+    assert gradients == pytest.approx([0.0, -0.1 / 50, 0.0], abs=1e-15)
+    assert changes == pytest.approx([0.1 / 50, 0.1 / 50], abs=1e-15)
+
+
+@pytest.mark.parametrize(("drop", "flagged"), [(0.09, False), (0.11, True)])
+def test_a_gradient_over_the_limit_is_flagged_and_one_under_it_not(drop, flagged):
+    # at 200 km/h: gradient ≤ 1/500, i.e. 0.1 m over a 50 m span; its change ≤ 1/1000 (0.05 m over 50 m: both
+    # the 0.09 m and the 0.11 m step change the gradient by more, so only the gradient rule separates them)
+    section = heights_section([5.5, 5.5, 5.5 - drop, 5.5 - drop, 5.5 - drop])
+    rules = {r.rule.split(" ≤")[0]: r for r in check_rules(section, _catenary(section), [_dropper()], band(200.0), 0.4)}
+    gradient = rules["contact-wire gradient"]
+    assert gradient.passed is not flagged and gradient.applies
+    assert f"{-drop / 50 * 1e3:+.2f} ‰ in span M2–M3" in gradient.worst
+    assert gradient_status(-drop / 50, 1 / 500) == ("over 1/500" if flagged else "")
+    assert not rules["change of contact-wire gradient"].passed
+    assert gradient_status(None, 1 / 500) == ""
+
+
+def _catenary(section):
+    return load_catenary("st_9.8_mixed").with_layout(SpanLayout(span_lengths=section.span_lengths))
+
+
+def _dropper():
+    return SimpleNamespace(length=0.9, span=1, from_mast="M1", to_mast="M2", dropper=1)

@@ -3,9 +3,11 @@ tolerance with the built pre-sag's margins and flag, and a termination mast with
 
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
-from presag_opt.design.line_results import SpanDesign
+from presag_opt.design import CASE_STUDY_BAND
+from presag_opt.design.line_results import DropperDesign, SpanDesign
 from presag_opt.pipeline.line import SPAN_FLAGS, span_flag
 from presag_opt.report.line_report import (
     DROPPER_COLUMNS,
@@ -30,7 +32,7 @@ def span(tolerance=None, span=2, presag=0.04612345, note=""):
 
 def answer(spans):
     """A LineAnswer stand-in with what the rows read: the spans and the crew tolerance's flag."""
-    return SimpleNamespace(design=SimpleNamespace(spans=spans), flag=lambda s: span_flag(s, CREW))
+    return SimpleNamespace(design=SimpleNamespace(spans=spans, band=CASE_STUDY_BAND), flag=lambda s: span_flag(s, CREW))
 
 
 def test_span_rows_are_in_table_units():
@@ -56,19 +58,33 @@ def test_each_flag_and_the_end_span_s_note():
 
 
 def test_dropper_rows_round_to_a_tenth_of_a_millimetre():
-    d = SimpleNamespace(section="A", span=1, from_mast="M1", to_mast="M2", dropper=3, position=12.34567,
-                        length=0.91234, contact_wire_height=5.45678, presag=0.03456)
+    d = DropperDesign(section="A", span=1, from_mast="M1", to_mast="M2", dropper=3, position=12.34567, length=0.91234,
+                      contact_wire_height=5.45678, presag=0.03456, chainage=112.34567, messenger_height=6.61234,
+                      lateral=-0.123456, cut_length=1.11234)
     (row,) = dropper_rows(SimpleNamespace(droppers=[d]))
+    assert tuple(row) == DROPPER_COLUMNS
     assert (row["x_from_mast_m"], row["dropper_length_mm"], row["contact_wire_height_mm"], row["presag_mm"]) == (
         12.346, 912.3, 5456.8, 34.6)
+    assert (row["dropper_id"], row["chainage_m"], row["cut_length_mm"], row["messenger_height_mm"],
+            row["lateral_mm"]) == ("A/M1-M2/3", 112.346, 1112.3, 6612.3, -123.5)
 
 
 def test_a_line_with_stitch_droppers_says_where_each_dropper_hangs_from():
     common = dict(section="A", span=1, from_mast="M1", to_mast="M2", length=0.9, contact_wire_height=5.5, presag=0.0)
-    plain = SimpleNamespace(dropper=1, position=4.5, stitch=False, **common)
-    on_stitch = SimpleNamespace(dropper=2, position=4.0, stitch=True, **common)
+    plain = DropperDesign(dropper=1, position=4.5, stitch=False, **common)
+    on_stitch = DropperDesign(dropper=2, position=4.0, stitch=True, **common)
     stitched = SimpleNamespace(droppers=[on_stitch, plain])
     assert dropper_columns(stitched) == DROPPER_COLUMNS + STITCH_COLUMNS
     assert [r["hangs_from"] for r in dropper_rows(stitched)] == ["stitch wire", "messenger"]
     simple = SimpleNamespace(droppers=[plain])
     assert dropper_columns(simple) == DROPPER_COLUMNS and "hangs_from" not in dropper_rows(simple)[0]
+
+
+def test_span_rows_flag_a_gradient_over_the_limit_at_the_band_s_speed():
+    # the case-study band tops at 90 km/h: gradient ≤ 1/167, change ≤ 1/333
+    steep = dataclasses.replace(span(), gradient=-7e-3, gradient_change=4e-3, uniformity=0.123456)
+    gentle = dataclasses.replace(span(), gradient=5e-3, gradient_change=2e-3)
+    rows = span_rows(answer([steep, gentle]))
+    assert rows[0]["gradient_flag"] == "gradient over 1/167; change over 1/333"
+    assert rows[0]["gradient_permille"] == -7.0 and rows[0]["uniformity"] == 0.1235
+    assert rows[1]["gradient_flag"] == ""

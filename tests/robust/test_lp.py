@@ -22,22 +22,23 @@ def test_minimax_parabola_matches_a_brute_force_scan(path, scenarios):
 
 
 def test_lp_optimum_equals_its_exact_reevaluation(path, scenarios):
-    """The LP's own optimal value (its epigraph variable over the max/min constraints) equals the
-    waviness re-evaluated exactly from the design; a wrong constraint in the LP would part them.
-    Tolerance 1e-6 relative: Clarabel's default gap tolerances are 1e-8 (relative and absolute)."""
-    design = robust_presag(path, scenarios)
-    problem = path.problems["robust"][("parabola", Risk().label, len(scenarios.forces), None)][0]
-    assert problem.value == pytest.approx(design.objective, rel=1e-6)
+    """The per-dropper LP's own optimal value (its epigraph variable over the max/min constraints)
+    equals the waviness re-evaluated exactly from its continuous depths; a wrong constraint in the
+    LP would part them. Tolerance 1e-6 relative: Clarabel's default gap tolerances are 1e-8."""
+    build = Buildability()
+    design = robust_presag(path, scenarios, shape="per-dropper", buildability=build)
+    problem = path.problems["robust"][("per-dropper", Risk().label, len(scenarios.forces), build)][0]
+    assert problem.value == pytest.approx(design.continuous_objective, rel=1e-6)
 
 
 def test_the_problem_is_dpp_and_reused(path, band):
-    first = robust_presag(path, ForceScenarios.band(*band))
+    first = robust_presag(path, ForceScenarios.band(*band), shape="per-dropper")
     cached = dict(path.problems["robust"])
-    narrow = robust_presag(path, ForceScenarios.band(band[0] + 20.0, band[1] - 20.0))
+    narrow = robust_presag(path, ForceScenarios.band(band[0] + 20.0, band[1] - 20.0), shape="per-dropper")
     assert path.problems["robust"].keys() == cached.keys()  # same problem object re-solved
-    problem = next(v[0] for k, v in path.problems["robust"].items() if k[0] == "parabola")
+    problem = next(v[0] for k, v in path.problems["robust"].items() if k[0] == "per-dropper")
     assert problem.is_dpp()
-    assert narrow.worst_case_waviness <= first.worst_case_waviness  # a narrower band is easier
+    assert narrow.continuous_objective <= first.continuous_objective  # a narrower band is easier
 
 
 def test_robust_beats_the_nominal_delta_e_design_over_the_band(path, scenarios, band):

@@ -154,3 +154,19 @@ def test_table_errors(tmp_path):
         load_survey(tmp_path / "x.txt")
     with pytest.raises(SurveyError, match="does not exist"):
         load_survey(tmp_path / "missing.csv")
+
+
+def test_a_semicolon_separated_survey_with_decimal_commas_is_read(tmp_path):
+    path = tmp_path / "semi.csv"
+    path.write_text(";".join(COLUMNS) + "\n" + "\n".join(
+        f"M{i};{50 * i},0;{300 if i % 2 else -300};5,5;1,2;;pull-off" for i in range(5)) + "\n", encoding="utf-8")
+    survey = load_survey(path)
+    assert [m.mast for m in survey.masts] == ["M0", "M1", "M2", "M3", "M4"]
+    assert survey.masts[1].contact_wire_height == 5.5 and survey.masts[1].system_height == 1.2
+
+
+def test_a_header_of_one_column_holding_tabs_says_so(tmp_path):
+    path = tmp_path / "tabs.csv"
+    path.write_text("\t".join(COLUMNS) + "\n" + "M0\t0\t300\t5.5\t1.2\t\tpull-off\n", encoding="utf-8")
+    with pytest.raises(SurveyError, match="the header is one column holding tabs"):
+        load_survey(path)

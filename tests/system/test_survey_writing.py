@@ -35,7 +35,7 @@ def test_the_written_csv_reads_back_to_the_same_survey(tmp_path):
     survey = survey_of_catenary(section())
     path = write_survey_csv(survey, tmp_path / "line.csv")
     header = path.read_text(encoding="utf-8").splitlines()[0].split(",")
-    assert header == [*COLUMNS, "section", "stitched"]
+    assert header == [*COLUMNS, "section", "stitched", "cant_mm"]
     again = load_survey(path, working_width=survey.working_width)
     assert survey_table(again) == survey_table(survey)  # table units, rounded to 1e-6 (μm, nm of stagger)
     marked = dataclasses.replace(survey, masts=tuple(dataclasses.replace(m, stitched=i % 2 == 0)
