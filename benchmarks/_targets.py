@@ -3,9 +3,11 @@ benchmark with a non-zero exit status and a ``NOT MET`` line when a target is mi
 
 from __future__ import annotations
 
+import argparse
 import statistics
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 MIN_REPEAT = 3
@@ -56,3 +58,13 @@ class Targets:
         if not self.missed:
             print("all targets met")
         return 1 if self.missed else 0
+
+
+def side_by_side(parser: argparse.ArgumentParser, root: Path, repeat: int,
+                 repeat_help: str) -> tuple[argparse.Namespace, dict[str, Path]]:
+    """Parse the options of a benchmark that runs this tree and a base tree side by side (``--base``,
+    ``--repeat`` and the parser's own); returns them and the trees by name (``this``, ``base``)."""
+    parser.add_argument("--base", type=Path, required=True, help="the base tree (a checkout of the base commit)")
+    parser.add_argument("--repeat", type=int, default=repeat, help=repeat_help)
+    args = parser.parse_args()
+    return args, {"this": root, "base": args.base.resolve()}

@@ -7,7 +7,7 @@ update, the penetration of a pantograph head into the contact wire, and how each
 (:func:`force_contribution`, on small fixed-size arrays). The functions are plain Python on numbers, or on NumPy arrays where
 the operations broadcast, with no call to another function (K_eff, on matrices, is not compiled): the single-run engine
 (:mod:`presag_opt.dynamics.integrator`, :mod:`presag_opt.dynamics.simulate`) calls them as they
-are, and the batch kernel (:mod:`presag_opt.dynamics.batch`) compiles the same functions inline with
+are, and the batch kernel (:mod:`presag_opt.dynamics.batch`) compiles the same functions with
 numba. The written order of each operation is the order every engine rounds in; the C sweeps
 (``native/sweeps.c``) repeat the predictor and update of the catenary's DOFs in that order, and the
 tests hold them to the last bit.

@@ -4,7 +4,7 @@ Every engine uses these functions: the single-run path (:mod:`presag_opt.dynamic
 :mod:`presag_opt.dynamics.pantograph`, :mod:`presag_opt.dynamics.structure`,
 :mod:`presag_opt.dynamics.integrator`) calls them as plain Python, on numbers or on NumPy arrays;
 the batch kernel (:mod:`presag_opt.dynamics.batch.forces`) compiles the same functions with numba
-(inlined) and calls them on numbers. This module imports no numba, so the single-run path stays
+(as kernel parts) and calls them on numbers. This module imports no numba, so the single-run path stays
 numba-free. The written order of every operation is the order the engines round in: a change here
 changes every engine, and nothing else defines these laws.
 

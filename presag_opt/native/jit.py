@@ -1,17 +1,17 @@
 """numba compilation of the batch kernel, its on-disk cache keyed by every source file it depends on.
 
 numba's ``cache=True`` keys a function's cached machine code by its own source file only: a compiled
-function that calls (and inlines) a function of another file keeps the old code when only that
+function that calls a function of another file (linked into its code) keeps the old code when only that
 other file changes (numba's documented limitation, numba/numba#1833). :func:`kernel_function`
 compiles with the cache, but under :class:`DependencyLocator`, whose source stamp is a hash of the
 contents of every file the function's compiled code comes from: its own, and, followed through the
 module globals it reads, the file of every numba function it can call, recursively (the laws of
 :mod:`presag_opt.dynamics.laws` included, which :mod:`presag_opt.dynamics.batch.forces` compiles
-inline). An edit of any of them makes numba recompile the function on its next use and overwrite the
+as kernel parts). An edit of any of them makes numba recompile the function on its next use and overwrite the
 stale entry; the cache stays where numba keeps it (``__pycache__`` beside the source, or
 ``NUMBA_CACHE_DIR``).
 
-Compiling the kernel takes about a minute of one core. :func:`compile_once` compiles a kernel entry
+Compiling the kernel takes about 20 s of one core (:func:`kernel_part` says why not more). :func:`compile_once` compiles a kernel entry
 point for the types of a call before the call, one process at a time: a process that finds another
 compiling (the workers of a pool started together, two commands, the workers of a test run) waits
 for it and then loads its cache instead of compiling the same code again on a core that has other
@@ -35,7 +35,9 @@ from pathlib import Path
 
 from numba import njit
 from numba.core import caching
+from numba.core import types as numba_types
 from numba.core.dispatcher import Dispatcher
+from numba.core.registry import CPUDispatcher
 
 
 def dependency_files(function: Callable) -> tuple[str, ...]:
@@ -164,7 +166,36 @@ def kernel_function(function: Callable) -> Dispatcher:
     return dispatcher
 
 
-def inline(function: Callable) -> Dispatcher:
-    """A plain-Python function compiled to be inlined into the kernel functions that call it
-    (``numba.njit(inline="always")``; not cached on its own: its callers' caches cover its file)."""
-    return njit(inline="always")(function)
+class KernelPart(CPUDispatcher):
+    """A numba function that only kernel functions call (see :func:`kernel_part`)."""
+
+    python_call: Callable | None = None
+    """What a call from Python runs (None: the call raises TypeError)."""
+
+    def __call__(self, *args: object, **kwargs: object) -> object:
+        if self.python_call is not None:
+            return self.python_call(*args, **kwargs)
+        raise TypeError(f"{self.py_func.__qualname__} is a part of the compiled kernel and has no Python entry: "
+                        "call it from a kernel function")
+
+    def get_call_template(self, args: tuple, kws: dict) -> tuple:
+        """numba's call template for the argument types without their literal values: one compilation
+        for ``f(b, 0)`` and ``f(b, count)``."""
+        return super().get_call_template(tuple(numba_types.unliteral(a) for a in args), kws)
+
+
+def kernel_part(function: Callable, python_call: Callable | None = None) -> Dispatcher:
+    """A plain-Python function compiled as a part of the kernel functions that call it.
+
+    Compiled once per argument types (literal constants counted as their type) and linked into its
+    callers, where LLVM inlines it: no Python entry point and no C wrapper is built for it (those
+    were a third of the kernel's compile time). Called from Python it runs ``python_call``, the same
+    computation for Python (for a part that numba alone can run), or, without one, raises TypeError.
+    Not cached on its own: its callers' caches cover its file. Under ``NUMBA_DISABLE_JIT`` it is
+    ``python_call`` or the function as written."""
+    dispatcher = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True)(function)
+    if not isinstance(dispatcher, CPUDispatcher):
+        return python_call or dispatcher
+    dispatcher.__class__ = KernelPart
+    dispatcher.python_call = python_call
+    return dispatcher

@@ -15,8 +15,8 @@ loaded into the process with ctypes; :func:`sweeps` hands its functions to the k
 pointers, and :func:`forward_sweep`, :func:`backward_sweep` and :func:`update_sweep` call them with the
 arguments of the numba sweeps, so that the one driver loop,
 :func:`presag_opt.dynamics.batch.kernel.advance`, takes either kind. Without a compiler, or with
-compiling turned off in the runtime (``PRESAG_NO_COMPILE=1``), :func:`available` is False, :func:`sweeps` gives stand-ins of the same
-signatures, and the kernel takes the numba sweeps.
+compiling turned off in the runtime (``PRESAG_NO_COMPILE=1``), :func:`available` is False, :func:`sweeps` gives None, and the kernel takes (and only then
+compiles) the numba sweeps.
 
 The run arrays the sweeps read have a run dimension padded to whole blocks (:func:`lanes_for`);
 the padding lanes are swept too and never read.
@@ -26,13 +26,11 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import os
-import sys
 from pathlib import Path
 from typing import NamedTuple
 
 from presag_opt import native
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
 LANES = 8
 """Runs per block of the compiled sweeps (``LANES`` in ``sweeps.c``). [-]"""
@@ -81,20 +79,11 @@ def _loaded(path: str) -> CSweeps:
     return CSweeps(*functions)
 
 
-def _missing(*arguments) -> None:  # pragma: no cover - the kernel calls the C sweeps only when available
-    sys.stderr.write("presag_opt: the compiled sweeps were called but are not built\n")
-    os.abort()  # never a silent wrong result (an exception cannot leave a C callback)
-
-
-_STAND_INS = CSweeps(*(ctypes.CFUNCTYPE(None, *arguments)(_missing) for arguments in SIGNATURES.values()))
-"""Functions of the sweeps' signatures that are never called: the kernel's C arguments without a library."""
-
-
-def sweeps() -> CSweeps:
-    """The C sweeps for the kernel: the built library's functions, or, without one, stand-ins of the
-    same signatures (the kernel then takes the numba sweeps and never calls them)."""
+def sweeps() -> CSweeps | None:
+    """The C sweeps for the kernel: the built library's functions, or None without one (the kernel
+    then compiles and runs its numba sweeps)."""
     library = native.build("sweeps", SOURCE.read_text(), FLAGS)
-    return _loaded(str(library)) if library is not None else _STAND_INS
+    return _loaded(str(library)) if library is not None else None
 
 
 def lanes_for(n_runs: int) -> int:
@@ -108,13 +97,13 @@ def lanes_for(n_runs: int) -> int:
     return -(-n_runs // LANES) * LANES
 
 
-@inline
+@kernel_part
 def _lanes(work, active):
     """The lanes a sweep of ``active`` runs covers: whole blocks, within the padded run dimension."""
     return min(work.delta.shape[1], -(-active // LANES) * LANES)
 
 
-@inline
+@kernel_part
 def forward_sweep(c_sweeps, scalars, shared, state, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.forward_sweep` in C.
 
@@ -144,7 +133,7 @@ def forward_sweep(c_sweeps, scalars, shared, state, work, active):
                      work.delta.shape[1], _lanes(work, active))
 
 
-@inline
+@kernel_part
 def backward_sweep(c_sweeps, shared, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.backward_sweep` in C: the backward substitution of
     K_eff δ_lin = g.
@@ -167,7 +156,7 @@ def backward_sweep(c_sweeps, shared, work, active):
                       _lanes(work, active))
 
 
-@inline
+@kernel_part
 def update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active):
     """:func:`presag_opt.dynamics.batch.kernel.update_sweep` in C.
 

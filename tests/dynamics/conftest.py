@@ -105,10 +105,9 @@ PLAIN_PARTS = ("forces", "predictor", "woodbury", "update", "newton_step")
 def plain_parts():
     """The parts of the batch kernel's Newton step (:mod:`presag_opt.dynamics.batch.newton_step` and
     the modules it is made of) as plain Python: their modules imported a second time with numba's
-    jit off, so that every ``inline`` function is the function as written. The kernel compiles the
-    same source; the synthetic tests call the parts here in milliseconds instead of compiling each
-    one on its own with all it inlines (about 30 s of one core for the Newton step, on every run:
-    numba's cache does not cover a function called from Python). The compiled kernel itself is
+    jit off, so that every ``kernel_part`` function is the function as written. The kernel compiles the
+    same source; the synthetic tests call the parts here in milliseconds (compiled, a part has no Python
+    entry point). The compiled kernel itself is
     checked end to end (``batch/test_simulation.py``: the batch against the single-run engine).
     The compiled modules stay as they were, in ``sys.modules`` and on their package."""
     import importlib

@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib.util
 import sys
 
+import pytest
 from numba.core import caching
 
 from presag_opt.native import jit
@@ -24,7 +25,7 @@ def _load(path, name):
 
 def _two_files(tmp_path, body="return 2.0 * x"):
     (tmp_path / "jit_helper_law.py").write_text(
-        "from presag_opt.native.jit import inline\n\n@inline\ndef law(x):\n    " + body + "\n")
+        "from presag_opt.native.jit import kernel_part\n\n@kernel_part\ndef law(x):\n    " + body + "\n")
     (tmp_path / "jit_helper_user.py").write_text(
         "from presag_opt.native.jit import kernel_function\nfrom jit_helper_law import law\n\n"
         "@kernel_function\ndef user(x):\n    return law(x) + 1.0\n")
@@ -48,7 +49,7 @@ def test_the_stamp_changes_with_the_called_file_only(tmp_path):
     before = jit.source_stamp(user.user.py_func)
     assert before == jit.source_stamp(user.user.py_func) and len(before) == 64
     (tmp_path / "jit_helper_law.py").write_text(
-        "from presag_opt.native.jit import inline\n\n@inline\ndef law(x):\n    return 3.0 * x\n")
+        "from presag_opt.native.jit import kernel_part\n\n@kernel_part\ndef law(x):\n    return 3.0 * x\n")
     assert jit.source_stamp(user.user.py_func) != before  # the user's own file did not change
 
 
@@ -62,8 +63,26 @@ def test_a_kernel_function_has_its_own_cache_and_numba_is_left_as_it_was(tmp_pat
     assert isinstance(locator, jit.DependencyLocator)
     assert locator.get_source_stamp() == jit.source_stamp(user.user.py_func)
     law = sys.modules["jit_helper_law"].law
-    assert not isinstance(law._cache, jit.KernelCache)  # an inlined law has no cache of its own
-    assert law.targetoptions.get("inline") == "always"
+    assert not isinstance(law._cache, jit.KernelCache)  # a kernel part has no cache of its own
+    assert isinstance(law, jit.KernelPart) and law.targetoptions.get("no_cpython_wrapper")
+
+
+def test_a_kernel_part_is_compiled_once_for_literal_and_variable_arguments_and_refuses_python_calls(tmp_path):
+    """``law(2.0)`` and ``law(x)`` in a kernel function share one compilation of the part; called from
+    Python (it has no Python entry point) it raises instead of crashing."""
+    (tmp_path / "jit_helper_literal.py").write_text(
+        "from presag_opt.native.jit import kernel_function, kernel_part\n\n"
+        "@kernel_part\ndef scale(x, k):\n    return k * x\n\n"
+        "@kernel_function\ndef user(x):\n    return scale(x, 2) + scale(x, int(x))\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        module = _load(tmp_path / "jit_helper_literal.py", "jit_helper_literal")
+    finally:
+        sys.path.remove(str(tmp_path))
+    assert module.user(3.0) == 15.0
+    assert len(module.scale.signatures) == 1
+    with pytest.raises(TypeError, match="part of the compiled kernel"):
+        module.scale(3.0, 2)
 
 
 def test_the_kernel_cache_is_written_and_read_back(tmp_path):

@@ -7,7 +7,7 @@ the order they enter: the penalty contact of every pantograph head with the two 
 under it (:func:`contact_set`), the regularised friction of every pantograph suspension element
 (:func:`friction_set`), and every slack dropper, whose axial part is removed (:func:`dropper_set`).
 The laws are those of :mod:`presag_opt.dynamics.laws`, and the penetration and each contribution's
-force and tangent those of :mod:`presag_opt.dynamics.assembly`, compiled inline (the same functions
+force and tangent those of :mod:`presag_opt.dynamics.assembly`, compiled as kernel parts (the same functions
 the single-run path calls plainly). The arrays are the named tuples of
 :mod:`presag_opt.dynamics.batch.kernel_data`; the iteration that uses the set is
 :mod:`presag_opt.dynamics.batch.newton_step`'s.
@@ -16,20 +16,20 @@ the single-run path calls plainly). The arrays are the named tuples of
 from __future__ import annotations
 
 from presag_opt.dynamics import assembly, laws
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
-contact_stiffness = inline(laws.contact_stiffness)
-contact_force = inline(laws.contact_force)
-contact_tangent = inline(laws.contact_tangent)
-friction = inline(laws.friction)
-dropper_axial_force = inline(laws.dropper_axial_force)
-dropper_slack = inline(laws.dropper_slack)
-dropper_tension = inline(laws.dropper_tension)
-head_penetration = inline(assembly.head_penetration)
-force_contribution = inline(assembly.force_contribution)
+contact_stiffness = kernel_part(laws.contact_stiffness)
+contact_force = kernel_part(laws.contact_force)
+contact_tangent = kernel_part(laws.contact_tangent)
+friction = kernel_part(laws.friction)
+dropper_axial_force = kernel_part(laws.dropper_axial_force)
+dropper_slack = kernel_part(laws.dropper_slack)
+dropper_tension = kernel_part(laws.dropper_tension)
+head_penetration = kernel_part(assembly.head_penetration)
+force_contribution = kernel_part(assembly.force_contribution)
 
 
-@inline
+@kernel_part
 def enter_set(dof, set_dofs, set_force, tangent, position, count):
     """Position of ``dof`` in the current nonlinear set, adding it (zero force and tangent) if new;
     returns (its position, the new set size).
@@ -61,7 +61,7 @@ def enter_set(dof, set_dofs, set_force, tangent, position, count):
     return count, count + 1
 
 
-@inline
+@kernel_part
 def add_piece(size, piece_dofs, piece_force, piece_tangent, set_force, tangent):
     """Add one contribution (:func:`~presag_opt.dynamics.assembly.force_contribution`) to the set:
     its forces [N] and tangent [N/m] at the set positions ``piece_dofs``, row by row.
@@ -87,7 +87,7 @@ def add_piece(size, piece_dofs, piece_force, piece_tangent, set_force, tangent):
             tangent[piece_dofs[i], piece_dofs[j]] += piece_tangent[i, j]
 
 
-@inline
+@kernel_part
 def contact_set(b, step, count, shared, runs, scratch):
     """Each head's penalty contact with the contact wire: the two wire nodes under the head and the
     head enter the set (in contact or not), the force and tangent where the head penetrates the
@@ -128,7 +128,7 @@ def contact_set(b, step, count, shared, runs, scratch):
     return count
 
 
-@inline
+@kernel_part
 def friction_set(a1, count, scalars, shared, scratch):
     """Each suspension element's regularised friction, on its upper stage and, but for the lowest
     (on the car body), the stage below. Reads the velocities ``scratch.v_of`` [m/s]. Returns the set
@@ -164,7 +164,7 @@ def friction_set(a1, count, scalars, shared, scratch):
     return count
 
 
-@inline
+@kernel_part
 def dropper_set(b, a1, count, scalars, shared, runs, scratch):
     """Each slack dropper's six DOFs, with the force and tangent that remove its axial part, from
     its preload ``runs.dropper_preload`` [N], stretch ``scratch.stretch`` [m] and rate
@@ -200,7 +200,7 @@ def dropper_set(b, a1, count, scalars, shared, runs, scratch):
     return count, slack_recorded
 
 
-@inline
+@kernel_part
 def nonlinear_forces(b, step, a1, scalars, shared, runs, scratch):
     """Nonlinear forces and Newton tangent ∂f/∂u + a1 ∂f/∂v of run ``b`` at record ``step``.
 

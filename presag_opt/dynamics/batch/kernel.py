@@ -40,7 +40,7 @@ from presag_opt.dynamics.batch.newton_step import newton_step
 from presag_opt.dynamics.batch.predictor import newmark_predictor
 from presag_opt.dynamics.batch.update import newmark_update
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import inline, kernel_function
+from presag_opt.native.jit import kernel_function, kernel_part
 
 
 @kernel_function
@@ -74,7 +74,7 @@ def band_matvec(band, rows, x, out, runs):
             out[j, b] = acc[b]
 
 
-@inline
+@kernel_part
 def add_row_product(j, rows, x, acc, active, sign):
     """acc[:active] += Σ (sign · value) · x[column, :active] over row j's off-diagonal entries of
     ``rows``, in their order: the one band × vector of the kernel (:func:`band_matvec`, sweep 1's
@@ -161,7 +161,7 @@ def initialise(scalars, shared, runs, state, out, scratch):
 
 
 @kernel_function
-def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, state, out, work, scratch):
+def advance(first_step, last_step, c_sweeps, scalars, shared, runs, state, out, work, scratch):
     """Advance every running run from record ``first_step − 1`` to record ``last_step``.
 
     Runs are sorted by step count, longest first, so the runs still going form a prefix of the
@@ -177,9 +177,11 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
     predictor are collected in sweep (1) over the rows no nonlinear force can reach, and completed
     run by run on the others (:func:`~presag_opt.dynamics.batch.newton_step.newton_step`).
 
-    The sweeps are numba's (below) or, with ``compiled`` true, the same sweeps in compiled C, the
-    function pointers ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments,
-    same numbers to the last bit; the catenary's run arrays padded to whole blocks of lanes).
+    The sweeps are numba's (below) or the same sweeps in compiled C, the function pointers
+    ``c_sweeps`` (:func:`presag_opt.native.sweeps.sweeps`; same arguments, same numbers to the last
+    bit; the catenary's run arrays padded to whole blocks of lanes). numba prunes the branch that
+    ``c_sweeps`` (None or not) rules out before typing it: each kind of call compiles only its own
+    sweeps.
 
     Parameters
     ----------
@@ -187,10 +189,8 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
         First record to compute (from 1). [-]
     last_step : int
         Last record to compute. [-]
-    compiled : bool
-        Whether the sweeps run in compiled C.
-    c_sweeps : CSweeps
-        Function pointers of the compiled sweeps (unused without ``compiled``).
+    c_sweeps : CSweeps or None
+        Function pointers of the compiled sweeps; None: numba's sweeps.
     scalars, shared, runs, state, out, work, scratch : kernel_data tuples
         The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
@@ -198,17 +198,17 @@ def advance(first_step, last_step, compiled, c_sweeps, scalars, shared, runs, st
         active = start_step(step, runs, out, work)
         if active == 0:
             break
-        if compiled:
-            native.forward_sweep(c_sweeps, scalars, shared, state, work, active)
-            native.backward_sweep(c_sweeps, shared, work, active)
-        else:
+        if c_sweeps is None:
             forward_sweep(scalars, shared, state, work, active)
             backward_sweep(shared, work, active)
-        newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
-        if compiled:
-            native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
         else:
+            native.forward_sweep(c_sweeps, scalars, shared, state, work, active)
+            native.backward_sweep(c_sweeps, shared, work, active)
+        newton_steps(step, active, scalars, shared, runs, state, out, work, scratch)
+        if c_sweeps is None:
             update_sweep(step, scalars, shared, runs, state, out, work, active)
+        else:
+            native.update_sweep(c_sweeps, step, scalars, shared, runs, state, out, work, active)
         mark_finished_runs(step, active, runs, out)
 
 
@@ -317,7 +317,7 @@ def forward_sweep(scalars, shared, state, work, active):
         substitute_row(j, shared.lower_rows, factor_band[j, 0], delta, acc, active)
 
 
-@inline
+@kernel_part
 def substitute_row(j, rows, pivot, x, acc, active):
     """One row of a triangular substitution: x[j, :active] = (acc − Σ value · x[column]) / pivot over
     row j's entries of ``rows``, in their order.

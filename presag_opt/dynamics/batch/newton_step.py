@@ -7,7 +7,7 @@ it holds:
 - the pantographs' predictor, the state and the residual at the predictor
   (:mod:`presag_opt.dynamics.batch.predictor`);
 - the nonlinear forces of contact, pantograph friction and slack droppers, with the laws of
-  :mod:`presag_opt.dynamics.laws` compiled inline (:mod:`presag_opt.dynamics.batch.forces`);
+  :mod:`presag_opt.dynamics.laws` compiled as kernel parts (:mod:`presag_opt.dynamics.batch.forces`);
 - the Woodbury correction from the cached columns of K_eff⁻¹
   (:mod:`presag_opt.dynamics.batch.woodbury`);
 - the new iterate and its residual, the integrator's residual test, and the step's end
@@ -26,12 +26,12 @@ from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_CONVERGED, STATUS_N
 from presag_opt.dynamics.batch.predictor import pantograph_predictor, predictor_state, residual_at_predictor
 from presag_opt.dynamics.batch.update import close_run_step, fail_run, update_iterate
 from presag_opt.dynamics.batch.woodbury import woodbury_correction
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
 __all__ = ["STATUS_NOT_CONVERGED", "STATUS_NOT_FINITE", "STATUS_OK", "STATUS_RUNNING", "newton_step"]
 
 
-@inline
+@kernel_part
 def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
     """Newton iteration of run ``b`` for record ``step`` (see the module notes).
 

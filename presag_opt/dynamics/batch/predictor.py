@@ -17,9 +17,9 @@ from typing import NamedTuple
 import numpy as np
 
 from presag_opt.dynamics import assembly
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
-newmark_predictor = inline(assembly.newmark_predictor)
+newmark_predictor = kernel_part(assembly.newmark_predictor)
 
 
 class PantographStep(NamedTuple):
@@ -43,7 +43,7 @@ class DropperStep(NamedTuple):
     linear: np.ndarray
 
 
-@inline
+@kernel_part
 def pantograph_predictor(b, scalars, shared, runs, state):
     """Run ``b``'s pantograph predictors, right-hand side (uplift on the heads), C ṽ + K ũ, g and
     δ_lin (a :class:`PantographStep`).
@@ -83,7 +83,7 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     return PantographStep(u_pred, v_pred, rhs, linear, g, delta_lin)
 
 
-@inline
+@kernel_part
 def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     """Run ``b``'s droppers at the predictor (a :class:`DropperStep`; ``scratch.stretch`` and
     ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
@@ -130,7 +130,7 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     return DropperStep(base_stretch, base_rate, linear_stretch)
 
 
-@inline
+@kernel_part
 def residual_at_predictor(b, s, shared, state, work, scratch, pan):
     """The integrator's force scale and largest residual at the predictor of run ``b`` [N], the
     sweep's values completed on the rows the nonlinear forces can reach.

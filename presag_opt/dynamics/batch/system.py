@@ -236,8 +236,8 @@ def integrate_batch(
     lines = lines or [StaticLine.own(model)] * n_runs
     cw_height = np.zeros((n_runs, n))
     dropper_preload = np.zeros((n_runs, len(model.droppers)))
-    compiled = native_sweeps.available()
-    lanes = native_sweeps.lanes_for(n_runs) if compiled else n_runs  # run dimension of the swept arrays
+    c_sweeps = native_sweeps.sweeps()
+    lanes = n_runs if c_sweeps is None else native_sweeps.lanes_for(n_runs)  # run dimension of the swept arrays
     u = np.zeros((n, lanes))
     for b, (plan, line) in enumerate(zip(plans, lines, strict=True)):
         records = slice(0, n_steps[b] + 1)
@@ -298,12 +298,11 @@ def integrate_batch(
     )
     scratch = make_scratch(shared)
     work = make_work(shared, n_runs, lanes)
-    c_sweeps = native_sweeps.sweeps()
     compile_once(kernel.initialise, system.scalars, shared, runs, run_state, out, scratch)
-    compile_once(kernel.advance, 1, 1, compiled, c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch)
+    compile_once(kernel.advance, 1, 1, c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch)
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
     for first in range(1, longest + 1, CHUNK_STEPS):
-        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), compiled, c_sweeps, system.scalars, shared, runs,
+        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), c_sweeps, system.scalars, shared, runs,
                        run_state, out, work, scratch)
     return out
 

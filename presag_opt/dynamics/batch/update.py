@@ -19,12 +19,12 @@ from presag_opt.dynamics import assembly
 from presag_opt.dynamics.batch.forces import enter_set, nonlinear_forces
 from presag_opt.dynamics.batch.kernel_data import STATUS_NOT_CONVERGED, STATUS_NOT_FINITE
 from presag_opt.dynamics.batch.woodbury import influence
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
 
-newmark_update = inline(assembly.newmark_update)
+newmark_update = kernel_part(assembly.newmark_update)
 
 
-@inline
+@kernel_part
 def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop):
     """The iterate δ = δ_lin − s Z φ where the forces read it: displacement ``scratch.u_of`` [m]
     and velocity ``scratch.v_of`` [m/s] at the contact nodes and the pantograph DOFs, every
@@ -82,7 +82,7 @@ def iterate_kinematics(b, step, n_phi, scalars, shared, runs, state, work, scrat
         stretch[d] = base_stretch[d] + stretch[d]
 
 
-@inline
+@kernel_part
 def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
     """The nonlinear forces at the iterate (the DOFs of φ joined to the set) and the residual
     s (f − φ) on the set in ``scratch.residual`` [N]. Returns (set size, recorded droppers slack,
@@ -113,7 +113,7 @@ def iterate_residual(b, step, n_phi, scalars, shared, runs, scratch):
     return count, slack, largest
 
 
-@inline
+@kernel_part
 def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, pan, drop):
     """The new iterate δ = δ_lin − s Z φ where the forces read it, its nonlinear forces, and the
     residual s (f − φ) on the set. Returns (set size, recorded droppers slack, largest |residual| [N]).
@@ -135,7 +135,7 @@ def update_iterate(b, step, n_phi, scalars, shared, runs, state, work, scratch, 
     return iterate_residual(b, step, n_phi, scalars, shared, runs, scratch)
 
 
-@inline
+@kernel_part
 def fail_run(b, step, largest, count, taken, out, scratch):
     """Stop run ``b``: its status, step and last residual [N]; the set cleared.
 
@@ -160,7 +160,7 @@ def fail_run(b, step, largest, count, taken, out, scratch):
     out.iterations[b] += taken
 
 
-@inline
+@kernel_part
 def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan):
     """A run that converged at its predictor: δ = 0, and R = s f0 − g everywhere gives
     r_(n+1) = C ṽ + K ũ + f0. Sweep 3 forms (rhs + R − M a)/s, so rhs becomes s (C ṽ + K ũ) and
@@ -189,7 +189,7 @@ def converged_at_predictor(b, count, scalars, shared, state, work, scratch, pan)
         residual[i] = s * set_force[i]
 
 
-@inline
+@kernel_part
 def hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan):
     """φ's catenary part to ``work`` for sweep 3 (columns and coefficients s φ); its pantograph
     part taken into the pantographs' δ here.
@@ -223,7 +223,7 @@ def hand_phi_to_sweep(b, n_phi, s, shared, work, scratch, pan):
     work.phi_count[b] = e
 
 
-@inline
+@kernel_part
 def update_pantographs(b, taken, scalars, shared, state, pan):
     """The pantographs' new displacement [m], velocity [m/s], acceleration [m/s²] and internal
     force r_(n+1) = (rhs − M a)/s before the residual joins [N] (C ṽ + K ũ at the predictor).
@@ -252,7 +252,7 @@ def update_pantographs(b, taken, scalars, shared, state, pan):
             pantograph_r[i, b] = (p_rhs[i] - pantograph_mass[i] * ai) / c.s
 
 
-@inline
+@kernel_part
 def join_residual(b, step, count, slack, s, shared, state, out, scratch):
     """HHT's r_(n+1) = (rhs + R − M a)/s: the final residual R joins the catenary's right-hand side
     on the set (for sweep 3) or the pantographs' r directly; the set cleared, the step's contact
@@ -286,7 +286,7 @@ def join_residual(b, step, count, slack, s, shared, state, out, scratch):
     out.slack_max[b] = max(out.slack_max[b], slack)
 
 
-@inline
+@kernel_part
 def close_run_step(b, step, taken, count, n_phi, slack, scalars, shared, state, out, work, scratch, pan):
     """The end of run ``b``'s step: φ's catenary part to ``work`` for sweep 3, the pantographs' new
     state, the final residual R joined to the right-hand side, and the step's records.

@@ -28,10 +28,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from presag_opt.native.jit import inline
+from presag_opt.native.jit import kernel_part
+from presag_opt.native.lapack import solve_by_columns
 
 
-@inline
+@kernel_part
 def influence(j, m, n, column_of, columns, pantograph_inverse):
     """Entry (j, m) of K_eff⁻¹ on the extended DOFs (catenary and pantographs are uncoupled in
     K_eff: 0 between them). [m/N]
@@ -58,7 +59,7 @@ def influence(j, m, n, column_of, columns, pantograph_inverse):
     return 0.0
 
 
-@inline
+@kernel_part
 def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """x_S = (δ_lin − s Z f)_S − δ_S on the set, with δ = δ_lin − s Z φ the current iterate (δ = 0
     before the first correction). [m]
@@ -100,7 +101,7 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     return x
 
 
-@inline
+@kernel_part
 def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """The Woodbury correction from the current iterate: y = (I + s T Z_SS)⁻¹ s T x_S with x_S of
     :func:`woodbury_target`; the new δ = δ_lin − s Z φ with φ = f + y/s, left in ``scratch.phi``
@@ -129,17 +130,18 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     phi_dofs, phi = scratch.phi_dofs, scratch.phi
     n = shared.mass.shape[0]
     x = woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan)
-    capacitance = np.eye(count)
-    small = np.zeros(count)
+    capacitance = np.eye(count)  # by columns, as LAPACK takes it: capacitance[m, i] is entry (i, m)
+    y = np.zeros(count)
     for i in range(count):
         for k in range(count):
             t = s * tangent[i, k]
             if t != 0.0:
-                small[i] += t * x[k]
+                y[i] += t * x[k]
                 for m in range(count):
-                    capacitance[i, m] += t * influence(set_dofs[k], set_dofs[m], n, column_of, columns,
+                    capacitance[m, i] += t * influence(set_dofs[k], set_dofs[m], n, column_of, columns,
                                                        pantograph_inverse)
-    y = np.linalg.solve(capacitance, small)
+    if solve_by_columns(capacitance, y) != 0:
+        y[:] = np.nan  # singular: the run stops on its non-finite residual
     for i in range(count):
         phi_dofs[i] = set_dofs[i]
         phi[i] = set_force[i] + y[i] / s

@@ -89,7 +89,7 @@ def test_an_edited_law_in_another_file_takes_effect_with_the_cache_warm(tmp_path
 
 
 def test_the_batch_compiles_the_laws_module_itself():
-    """The batch's friction is laws.friction compiled inline (the edit above reaches the batch)."""
+    """The batch's friction is laws.friction compiled as a kernel part (the edit above reaches the batch)."""
     from presag_opt.dynamics.batch import forces as batch_forces
 
     assert batch_forces.friction.py_func is laws.friction
