@@ -349,15 +349,17 @@ def output_folder(text: str, option: str = "--out") -> Path:
     return path
 
 
-LONG_FORM_FINDING = 10.0
-"""Expected form-finding time above which a command says how long it will take. [s]"""
-
-LONG_WORK = 120.0
-"""Expected time of a batch or a study above which a command says beforehand what it will cost. [s]"""
+def announcer(args: argparse.Namespace) -> Callable[[str], None] | None:
+    """The ``announce`` of a job for a command: print each notice on stderr as ``presag: …``; None
+    with ``--quiet``."""
+    if getattr(args, "quiet", False):
+        return None
+    return lambda text: print(f"presag: {text}", file=sys.stderr, flush=True)
 
 
 def announce_work(args: argparse.Namespace, estimate: Any) -> None:
-    """Say what long work will cost (time and memory) before it starts, unless ``--quiet``.
+    """Say what long work will cost (time and memory) before it starts, unless ``--quiet``
+    (:func:`~presag_opt.dynamics.cost.work_notice`).
 
     Parameters
     ----------
@@ -366,8 +368,11 @@ def announce_work(args: argparse.Namespace, estimate: Any) -> None:
     estimate : object
         With ``seconds`` [s] and ``describe()``, e.g. a :class:`~presag_opt.dynamics.cost.WorkEstimate`.
     """
-    if estimate.seconds > LONG_WORK and not getattr(args, "quiet", False):
-        print(f"presag: {estimate.describe()} (Ctrl-C stops it)", file=sys.stderr, flush=True)
+    from presag_opt.dynamics.cost import work_notice
+
+    say, text = announcer(args), work_notice(estimate)
+    if say and text:
+        say(text)
 
 
 def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: StaticSettings) -> EquilibriumState:
@@ -390,8 +395,8 @@ def form_find_for(args: argparse.Namespace, catenary: Catenary, settings: Static
 
 
 def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float) -> None:
-    """Say beforehand that a form-finding of ``n_nodes`` nodes will take ``seconds``, if that is above
-    :data:`LONG_FORM_FINDING` (unless ``--quiet``).
+    """Say beforehand that a form-finding of ``n_nodes`` nodes will take ``seconds``, if that is long
+    (:func:`~presag_opt.dynamics.cost.form_finding_notice`; not with ``--quiet``).
 
     Parameters
     ----------
@@ -402,11 +407,11 @@ def announce_form_finding(args: argparse.Namespace, n_nodes: int, seconds: float
     seconds : float
         Estimated run time of the form-finding. [s]
     """
-    from presag_opt.dynamics.cost import duration
+    from presag_opt.dynamics.cost import form_finding_notice
 
-    if seconds > LONG_FORM_FINDING and not getattr(args, "quiet", False):
-        print(f"presag: form-finding {n_nodes} nodes takes about {duration(seconds)} on a typical machine "
-              "(Ctrl-C stops it)", file=sys.stderr, flush=True)
+    say, text = announcer(args), form_finding_notice(n_nodes, seconds)
+    if say and text:
+        say(text)
 
 
 def model_help(kind: str, default: str | None = None) -> str:

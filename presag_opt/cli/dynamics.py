@@ -10,8 +10,7 @@ from presag_opt.cli.common import (
     EXIT_NOT_CONVERGED,
     add_json_flag,
     add_plot_option,
-    announce_form_finding,
-    announce_work,
+    announcer,
     float_list,
     plot_folder,
     positive_float,
@@ -21,19 +20,14 @@ from presag_opt.cli.common import (
     table,
 )
 from presag_opt.errors import ModelError
+from presag_opt.jobs.simulation import SCHEMES
 from presag_opt.speed import check_speed_limit
-from presag_opt.system.loader import builtin_model_names, load_catenary
+from presag_opt.system.loader import builtin_model_names
 from presag_opt.units import KMH
 
 if TYPE_CHECKING:  # the simulator (scipy.signal) is imported only when `simulate` runs
     from presag_opt.dynamics.case import SimulationCase
-    from presag_opt.dynamics.settings import SimulationSettings
     from presag_opt.dynamics.simulate import SimulationResult
-
-SCHEMES = {"hht": {"scheme": "hht", "hht_alpha": -0.005}, "newmark": {"scheme": "newmark"}}
-"""Integration schemes offered on the command line, as :class:`~presag_opt.dynamics.integrator.IntegratorSettings`
-fields (HHT with the paper's numerical damping 0.005, or average-acceleration Newmark; the integrator
-module is imported only when ``simulate`` runs)."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -97,49 +91,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
-    from presag_opt.dynamics.case_grid import form_find_states, plan_grid
-    from presag_opt.dynamics.cost import (
-        MIN_AUTO_ELEMENT_LENGTH,
-        check_run_size,
-        estimate_runs,
-    )
-    from presag_opt.static.run_time import form_find_estimate
+    from presag_opt.jobs.simulation import simulate
 
     case = _case(args)
     plots = plot_folder(args)
-    args.plot = plots
-    speeds = case.speeds if args.speed is None else tuple(v * KMH for v in args.speed)
-    forces = (case.operation.static_force,) if args.static_force is None else tuple(args.static_force)
-    settings = _settings(args, case.settings)
     if not args.allow_supercritical:
-        for speed in speeds:
+        for speed in case.speeds:
             check_speed_limit(speed, case.catenary.contact_wire.wave_speed, accept="--allow-supercritical")
-    plans = plan_grid(case, speeds, forces, settings)  # every input is checked before the form-finding starts
-    estimate = estimate_runs(case.catenary, list(plans.values()), batch=len(plans) > 1)
-    check_run_size(list(plans.values()), estimate,
-                   fix=f"--element-length {MIN_AUTO_ELEMENT_LENGTH:g} (or longer) with --time-step MS")
-    announce_work(args, estimate)
-    for static in {p.settings.static.element_length: p.settings.static for p in plans.values()}.values():
-        announce_form_finding(args, *form_find_estimate(case.catenary, static))
-    with progress(args) as bar:
-        states = form_find_states(case.catenary, plans, progress=bar)
-    if len(plans) == 1:
-        (speed, force), plan = next(iter(plans.items()))
-        single = dataclasses.replace(case, operation=dataclasses.replace(case.operation, static_force=force))
-        return _single_run(args, single, speed, states[plan.settings.static.element_length], settings)
-    return _batch(args, case, plans, states, settings)
+    try:
+        with progress(args) as bar:
+            answer = simulate(case=case, static_force=args.static_force, scheme=args.scheme,
+                              time_step_ms=args.time_step, element_length=args.element_length,
+                              allow_supercritical=True, announce=announcer(args), progress=bar)
+    except ModelError as exc:  # the job names its keywords, the command line its flags
+        raise ModelError(str(exc).replace("element_length=", "--element-length ").replace(
+            "with time_step_ms", "with --time-step MS")) from None
+    if answer.run is not None:
+        return _single_run(args, answer, plots)
+    return _batch(args, answer, plots)
 
 
-def _settings(args: argparse.Namespace, base: SimulationSettings) -> SimulationSettings:
-    """The case's settings with the scheme, and fixed numerics where an element length or time step is given."""
-    from presag_opt.dynamics.integrator import IntegratorSettings
+def _case(args: argparse.Namespace) -> SimulationCase:
+    """The case from ``--case``, or one built from MODEL and the flags; flags override a case's values."""
+    from presag_opt.jobs.simulation import simulation_case
 
-    settings = dataclasses.replace(
-        base, integrator=IntegratorSettings(**SCHEMES[args.scheme], time_step=base.integrator.time_step))
-    if args.time_step is None and args.element_length is None:
-        return settings
-    return settings.with_fixed_numerics(
-        element_length=args.element_length, time_step=args.time_step and args.time_step * 1e-3)
+    if args.case is not None and args.model is not None:
+        raise ModelError("give either a catenary MODEL or --case, not both")
+    if args.case is None:
+        if args.model is None:
+            raise ModelError("give a catenary MODEL (e.g. st_9.8_ideal) or --case FILE")
+        missing = [flag for flag, value in (("--pantograph", args.pantograph), ("--speed", args.speed),
+                                            ("--static-force", args.static_force)) if value is None]
+        if missing:
+            raise ModelError(f"{', '.join(missing)} required with a catenary MODEL (or use --case FILE)")
+    return simulation_case(args.model, args.pantograph, case=args.case, speed_kmh=args.speed,
+                           static_force=args.static_force, aero_coefficient_kmh=args.aero, presag_mm=args.presag,
+                           spacing_m=args.spacing)
 
 
 def _reference_verdicts(args: argparse.Namespace, runs: list[dict]) -> list[list] | None:
@@ -168,92 +155,46 @@ def _report_verdicts(runs: list[dict], verdicts: list[list] | None, as_json: boo
         print(f"  OUTSIDE at {speed:g} km/h: {v.statistic} = {v.value:.1f}, published {v.low:g} – {v.high:g}")
 
 
-def _single_run(args: argparse.Namespace, case: SimulationCase, speed: float, state, settings) -> int:
-    result = case.run(speed, state=state, settings=settings)
+def _single_run(args: argparse.Namespace, answer, plots) -> int:
+    result = answer.run
     print_warnings(result.warnings)
-    if args.plot:
+    plot = None
+    if plots:
         from presag_opt.plotting import plot_contact_force
 
-        args.plot = plot_contact_force([result], args.plot / "contact_force.png")
-    runs = [result.to_dict()]
+        plot = plot_contact_force([result], plots / "contact_force.png")
+    runs = answer.runs()
     verdicts = _reference_verdicts(args, runs)
     if args.json:
         _report_verdicts(runs, verdicts, True)
         print_json(runs[0])
         return 0
-    _print_table(case, [result])
+    _print_table(answer.case, [result])
     _report_verdicts(runs, verdicts, False)
-    if args.plot:
-        print(f"\nPlot saved to {args.plot}")
+    if plot:
+        print(f"\nPlot saved to {plot}")
     return 0
 
 
-def _batch(args: argparse.Namespace, case: SimulationCase, plans: dict, states: dict, settings) -> int:
-    from presag_opt.dynamics.case_grid import simulate_grid
-
-    with progress(args) as bar:
-        bar(f"simulating {len(plans)} runs")
-        batch = simulate_grid(case, plans, states, settings, progress=bar)
+def _batch(args: argparse.Namespace, answer, plots) -> int:
+    batch = answer.grid
     print_warnings(line for run in batch.runs for line in run.warnings)
-    if args.plot:
+    plot = None
+    if plots:
         from presag_opt.plotting import plot_batch_statistics
 
-        args.plot = plot_batch_statistics(batch, args.plot / "sigma_against_speed.png")
-    output = {"case": case.name, **batch.to_dict()}
+        plot = plot_batch_statistics(batch, plots / "sigma_against_speed.png")
+    output = answer.to_dict()
     verdicts = _reference_verdicts(args, output["runs"])
     if args.json:
         _report_verdicts(output["runs"], verdicts, True)
         print_json(output)
         return 0
-    _print_batch_table(case, batch)
+    _print_batch_table(answer.case, batch)
     _report_verdicts(output["runs"], verdicts, False)
-    if args.plot:
-        print(f"\nPlot saved to {args.plot}")
+    if plot:
+        print(f"\nPlot saved to {plot}")
     return 0 if not batch.failed else EXIT_NOT_CONVERGED
-
-
-def _case(args: argparse.Namespace) -> SimulationCase:
-    from presag_opt.dynamics.case import SimulationCase, load_case
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.dynamics.settings import Operation, SimulationSettings
-
-    """The case from ``--case``, or one built from MODEL and the flags; flags override a case's values."""
-    if args.case is not None and args.model is not None:
-        raise ModelError("give either a catenary MODEL or --case, not both")
-    if args.case is None:
-        if args.model is None:
-            raise ModelError("give a catenary MODEL (e.g. st_9.8_ideal) or --case FILE")
-        missing = [flag for flag, value in (("--pantograph", args.pantograph), ("--speed", args.speed),
-                                            ("--static-force", args.static_force)) if value is None]
-        if missing:
-            raise ModelError(f"{', '.join(missing)} required with a catenary MODEL (or use --case FILE)")
-        catenary = load_catenary(args.model)
-        case = SimulationCase(
-            name=catenary.name,
-            description="",
-            catenary=catenary,
-            pantograph=load_pantograph(args.pantograph),
-            operation=Operation(speed=args.speed[0] * KMH, static_force=args.static_force[0]),
-            speeds=tuple(v * KMH for v in args.speed),
-            settings=SimulationSettings(),
-        )
-    else:
-        case = load_case(args.case)
-        if args.pantograph is not None:
-            case = dataclasses.replace(case, pantograph=load_pantograph(args.pantograph))
-    changes = {}
-    if args.static_force is not None:
-        changes["static_force"] = args.static_force[0]
-    if args.aero is not None:
-        changes["aero_coefficient"] = args.aero / KMH**2
-    if args.spacing is not None:
-        changes["spacings"] = tuple(args.spacing)
-    case = dataclasses.replace(case, operation=dataclasses.replace(case.operation, **changes))
-    if args.presag is not None:
-        catenary = case.catenary
-        presag_rel = args.presag * 1e-3 / max(catenary.layout.span_lengths)
-        case = dataclasses.replace(case, catenary=catenary.with_presag(presag_rel))
-    return case
 
 
 def _print_table(case: SimulationCase, results: list[SimulationResult]) -> None:

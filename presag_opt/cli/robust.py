@@ -15,6 +15,7 @@ from presag_opt.cli import tolerance_mc
 from presag_opt.cli.common import (
     add_json_flag,
     add_plot_option,
+    announcer,
     float_list,
     model_help,
     plot_folder,
@@ -32,8 +33,8 @@ from presag_opt.cli.decision_options import (
     decision_json,
     decision_keywords,
     operating_band,
-    parse_within,
     print_decision,
+    within_percent,
     workers_of,
 )
 from presag_opt.errors import ModelError
@@ -141,20 +142,6 @@ def _dynamic_option(args: argparse.Namespace, name: str):
             raise ModelError(f"--{name.replace('_', '-')} is an option of the dynamic design; add --dynamic")
         return None
     return DYNAMIC_DEFAULTS[name] if value is None else value
-
-
-def _study(args: argparse.Namespace, catenary=None, **kwargs):
-    """The quasi-static robust study of the band's F_m band (``presag tolerance``)."""
-    from presag_opt.robust import robust_study  # cvxpy is imported only when a robust command runs
-    from presag_opt.static.discretisation import StaticSettings
-
-    band = operating_band(args)
-    within = parse_within(args.within)
-    catenary = catenary or load_catenary(args.model)
-    check_band_speed(args, [catenary])
-    with progress(args) as report:
-        return robust_study(catenary, band.mean_force_band(), within=within, progress=report,
-                            settings=StaticSettings(element_length=args.element_length), **kwargs)
 
 
 def robust_command(args: argparse.Namespace) -> int:
@@ -268,24 +255,30 @@ def _dynamic_check(args: argparse.Namespace, study, catenary, pantograph, settin
 
 
 def tolerance_command(args: argparse.Namespace) -> int:
-    """``presag tolerance``: the installation tolerance interval of the robust study."""
+    """``presag tolerance``: the installation tolerance interval of the robust study, or (``--monte-carlo``)
+    the design's worst case over random installation errors."""
+    from presag_opt.jobs import tolerance
+
     tolerance_mc.check_options(args)
-    if args.monte_carlo:
-        return tolerance_mc.monte_carlo_command(args, lambda a: _study(a), parse_within(args.within),
-                                                {**DYNAMIC_DEFAULTS, "band": operating_band(args)})
+    keywords = tolerance_mc.tolerance_keywords(args)
     plots = plot_folder(args)
-    study = _study(args)
-    data = study.to_dict()
+    catenary = load_catenary(args.model)
+    check_band_speed(args, [catenary])
+    within = within_percent(args.within)
+    total = keywords["samples"] if keywords.get("dynamic") else None
+    with progress(args, total=total) as report:
+        answer = tolerance(catenary, operating_band(args), within_percent=within, element_length=args.element_length,
+                           allow_supercritical=True, announce=announcer(args), progress=report, **keywords)
+    if keywords:
+        return tolerance_mc.print_answer(args, answer, None if plots is None else plots / "monte_carlo.png")
+    study, data = answer.study, answer.to_dict()
     written = None
     if plots:
         from presag_opt.plotting import plot_waviness
 
         written = plot_waviness(study, plots / "waviness.png")
     if args.json:
-        print_json({k: data[k] for k in ("catenary", "fm_band_N", "reference_span_m", "presag_mm", "worst_case_waviness_mm",
-                                         "tolerance_mm", "tolerance_within", "centre_optimum_presag_mm",
-                                         "centre_optimum_tolerance_mm", "nominal_presag_mm",
-                                         "nominal_worst_case_waviness_mm")})
+        print_json(data)
         return 0
     (low, high), (clow, chigh) = data["tolerance_mm"], data["centre_optimum_tolerance_mm"]
     print(f"Installation tolerance: {study.catenary_name}, F_m {data['fm_band_N'][0]:.1f}–{data['fm_band_N'][1]:.1f} N, "

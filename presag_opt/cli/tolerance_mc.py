@@ -14,18 +14,17 @@ from __future__ import annotations
 import argparse
 import math
 
-from presag_opt.cli.common import output_folder, plot_folder, print_json, progress, report_failures, table
+from presag_opt.cli.common import output_folder, print_json, report_failures, table
 from presag_opt.cli.decision_options import workers_of
 from presag_opt.errors import ModelError
-from presag_opt.jobs.options import MONTE_CARLO_SAMPLES
+from presag_opt.jobs.options import (
+    DYNAMIC_MONTE_CARLO_SAMPLES,
+    MAX_INSTALLATION_ERROR_MM,
+    MAX_MONTE_CARLO_SAMPLES,
+    MONTE_CARLO_SAMPLES,
+)
 
-MAX_ERROR_MM = 100.0
-"""Largest error size accepted on the command line. [mm]"""
-
-MAX_SAMPLES = 1_000_000
-"""Most realisations. [-]"""
-
-DEFAULT_SAMPLES = {"quasi-static": MONTE_CARLO_SAMPLES, "dynamic": 100}
+DEFAULT_SAMPLES = {"quasi-static": MONTE_CARLO_SAMPLES, "dynamic": DYNAMIC_MONTE_CARLO_SAMPLES}
 """Realisations by default: quasi-static (about a second), dynamic (tens of minutes on 2 cores)."""
 
 
@@ -91,37 +90,12 @@ def check_options(args: argparse.Namespace) -> None:
         raise ModelError("--distribution and --seed are options of the Monte Carlo; add --monte-carlo")
 
 
-def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dynamic_defaults: dict) -> int:
-    """``presag tolerance --monte-carlo``; ``study_for(args)`` gives the quasi-static robust study,
-    ``dynamic_defaults`` the band, grid, pantograph and α_ae of ``presag robust --dynamic``.
-
-    Parameters
-    ----------
-    args : argparse.Namespace
-        The parsed command line.
-    study_for : callable
-        Maps ``args`` to the quasi-static robust study.
-    within : float
-        Allowed loss of the held percentile relative to the error-free worst case, for
-        ``--find-dropper-tolerance`` (0.1 for 10 %). [-]
-    dynamic_defaults : dict
-        The band of the command (``band``) and the defaults of ``presag robust --dynamic`` (grid,
-        pantograph).
-
-    Returns
-    -------
-    int
-        Exit status. [-]
-    """
-    from presag_opt.robust.installation import InstallationErrors
-
-    dropper = _number(args, "dropper_error", "mm", 0.0, MAX_ERROR_MM)
-    height = _number(args, "height_error", "mm", 0.0, MAX_ERROR_MM, default=0.0)
-    kind = "dynamic" if args.dynamic else "quasi-static"
-    samples = _number(args, "samples", "", 1, MAX_SAMPLES, integer=True, default=DEFAULT_SAMPLES[kind])
-    seed = _number(args, "seed", "", 0, 2**32 - 1, integer=True)
-    workers = workers_of(args)
-    presag_mm = _number(args, "presag_mm", "mm", 0.0, 1000.0)
+def tolerance_keywords(args: argparse.Namespace) -> dict:
+    """The Monte Carlo options as keywords of the ``tolerance`` job (none without ``--monte-carlo``),
+    each number checked with its flag named, before any work."""
+    if not args.monte_carlo:
+        return {}
+    dropper = _number(args, "dropper_error", "mm", 0.0, MAX_INSTALLATION_ERROR_MM)
     if args.find_dropper_tolerance:
         if args.dynamic:
             raise ModelError("--find-dropper-tolerance is quasi-static; drop --dynamic")
@@ -132,25 +106,25 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
     if args.out is not None and not args.dynamic:
         raise ModelError("--out keeps the realisations of --dynamic (the quasi-static Monte Carlo takes seconds); "
                          "add --dynamic or drop --out")
-    plots = plot_folder(args)
-    plot = None if plots is None else plots / "monte_carlo.png"
-    out = output_folder(args.out) if args.out is not None else None
-    errors = InstallationErrors(dropper_length=(dropper or 0.0) * 1e-3, contact_wire_height=height * 1e-3,
-                                messenger_height=height * 1e-3, distribution=args.distribution)
-    study = study_for(args)
-    span = study.reference_span
-    presag_rel = study.robust_parabola.presag_rel if presag_mm is None else presag_mm * 1e-3 / span
-    if args.dynamic:
-        data, result = _dynamic(args, study, presag_rel, errors, samples, seed, workers, dynamic_defaults, out)
-    else:
-        data, result = _quasi_static(args, study, presag_rel, errors, samples, seed, within)
-    data.update(catenary=study.catenary_name, reference_span_m=span, presag_mm=presag_rel * span * 1e3,
-                samples=samples, seed=seed, distribution=args.distribution,
-                height_error_mm=height, s_interval_mm=[study.tolerance.low * span * 1e3, study.tolerance.high * span * 1e3],
-                s_interval_within=study.tolerance.within)
+    kind = "dynamic" if args.dynamic else "quasi-static"
+    return dict(
+        dropper_error_mm=dropper,
+        height_error_mm=_number(args, "height_error", "mm", 0.0, MAX_INSTALLATION_ERROR_MM, default=0.0),
+        samples=_number(args, "samples", "", 1, MAX_MONTE_CARLO_SAMPLES, integer=True, default=DEFAULT_SAMPLES[kind]),
+        seed=_number(args, "seed", "", 0, 2**32 - 1, integer=True),
+        presag_mm=_number(args, "presag_mm", "mm", 0.0, 1000.0),
+        distribution=args.distribution, find_dropper_tolerance=args.find_dropper_tolerance, dynamic=args.dynamic,
+        workers=workers_of(args), store=output_folder(args.out) if args.out is not None else None,
+    )
+
+
+def print_answer(args: argparse.Namespace, answer, plot) -> int:
+    """Print the Monte Carlo of ``presag tolerance --monte-carlo`` (a table, or ``--json``) and draw its
+    histogram; the exit status says whether realisations failed."""
+    data = answer.to_dict()
     if plot:
-        _plot(result, data, plot)
-    summary = data.pop("failure_summary", "")
+        _plot(answer.worst_cases(), data, plot)
+    summary = answer.failure_summary()
     if args.json:
         print_json(data)
         return report_failures("tolerance", summary)
@@ -158,89 +132,6 @@ def monte_carlo_command(args: argparse.Namespace, study_for, within: float, dyna
     if plot:
         print(f"Plot saved to {plot}")
     return report_failures("tolerance", summary)
-
-
-def _quasi_static(args, study, presag_rel, errors, samples, seed, within):
-    from presag_opt.robust.monte_carlo import (
-        QuasiStaticMonteCarlo,
-        largest_dropper_tolerance,
-    )
-
-    with progress(args) as report:
-        report("linearised installation response of the section")
-        mc = QuasiStaticMonteCarlo(study.path, study.path.parabola_depths(presag_rel), study.scenarios)
-        if args.find_dropper_tolerance:
-            report(f"bisection of the dropper error on {samples} realisations")
-            found = largest_dropper_tolerance(mc, errors, within=within, samples=samples, seed=seed)
-            result = found.at_tolerance
-        else:
-            report(f"{samples} realisations")
-            result = mc.run(errors, samples=samples, seed=seed)
-    data = {"kind": "quasi-static", "measure": "worst-case waviness R over the F_m band", "unit": "mm",
-            "fm_band_N": [float(study.scenarios.forces.min()), float(study.scenarios.forces.max())],
-            "dropper_error_mm": result.errors.dropper_length * 1e3,
-            "nominal_worst_case": result.nominal_worst_case * 1e3,
-            **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles.items()},
-            "confidence": result.confidence}
-    if args.find_dropper_tolerance:
-        data.update(largest_dropper_error_mm=found.tolerance * 1e3, within=found.within, held_percentile=found.level,
-                    resolution_mm=found.resolution * 1e3)
-    return data, result.worst_case * 1e3
-
-
-def _dynamic(args, study, presag_rel, errors, samples, seed, workers, d, out=None):
-    from presag_opt.design.band import KMH
-    from presag_opt.dynamics.pantograph import load_pantograph
-    from presag_opt.dynamics.settings import SimulationSettings
-    from presag_opt.robust import OperatingGrid
-    from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
-    from presag_opt.robust.dynamic_study import simulated_band
-    from presag_opt.system.loader import load_catenary
-
-    band = simulated_band(d["band"])
-    grid = OperatingGrid.from_band(band, static_points=int(d["grid_points"][0]), speed_points=int(d["grid_points"][1]))
-    catenary, pantograph = load_catenary(args.model), load_pantograph(d["pantograph"])
-    settings = SimulationSettings(numerics="auto")
-    _announce(args, catenary, pantograph, grid, band, settings, samples + 1, workers)
-    with progress(args, total=samples) as report:
-        result = dynamic_monte_carlo(catenary, pantograph, grid, presag_rel,
-                                     errors, samples=samples, seed=seed, workers=workers,
-                                     chunk=max(1, min(4, -(-samples // workers))),
-                                     settings=settings, progress=report, store=out)
-    sig = result.percentiles["worst_sigma_over_fm"]
-    data = {"kind": "dynamic", "measure": "worst σ/F_m over the grid", "unit": "-",
-            "grid": {"static_forces_N": list(grid.static_forces), "speeds_kmh": [v / KMH for v in grid.speeds]},
-            "pantograph": d["pantograph"], "dropper_error_mm": errors.dropper_length * 1e3,
-            "nominal_worst_case": result.nominal.worst_sigma_over_fm,
-            **{f"p{k}": p.to_dict() for k, p in sig.items()},
-            "smallest_statistical_min_N": {"nominal": result.nominal.smallest_statistical_min,
-                                           **{f"p{k}": p.to_dict() for k, p in
-                                              result.percentiles["smallest_statistical_min"].items()}},
-            "largest_uplift_mm": {"nominal": result.nominal.largest_uplift * 1e3,
-                                  **{f"p{k}": p.to_dict(1e3) for k, p in result.percentiles["largest_uplift"].items()}},
-            "slack_droppers_at_rest": {"realisations": sum(r.slack_at_rest > 0 for r in result.realisations),
-                                       "most": max(r.slack_at_rest for r in result.realisations)},
-            "confidence": 0.95, "wall_time_s": result.wall_time, "workers": workers,
-            "samples_used": result.samples, "failed": len(result.failures),
-            "failures": [{"realisation": e.index, "reason": e.failure} for e in result.failures],
-            "store": result.store, "failure_summary": result.failure_summary()}
-    return data, result.values("worst_sigma_over_fm")
-
-
-def _announce(args, catenary, pantograph, grid, band, settings, realisations: int, workers: int) -> None:
-    """Say what the dynamic Monte Carlo will cost before it starts: each realisation is one form-finding
-    (a re-solve, costed as one) and one batch over the grid, shared out over the workers."""
-    from presag_opt.cli.common import announce_work
-    from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
-    from presag_opt.dynamics.run_plan import plan_run
-
-    plans = [plan_run(catenary, pantograph, speed=v, static_force=f, aero_coefficient=band.aero_coefficient,
-                      settings=settings) for f in grid.static_forces for v in grid.speeds]
-    one = estimate_runs(catenary, plans, batch=True)
-    share = realisations / max(1, min(workers, realisations))
-    announce_work(args, WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
-                                     runs=realisations * one.runs, run_seconds=share * one.run_seconds,
-                                     memory=one.memory * min(workers, realisations)))
 
 
 def _print(data: dict) -> None:

@@ -172,3 +172,36 @@ def duration(seconds: float) -> str:
     if seconds < 90:
         return f"{seconds:.0f} s"
     return f"{seconds / 60:.0f} min" if seconds < 5400 else f"{seconds / 3600:.1f} h"
+
+
+LONG_FORM_FINDING = 10.0
+"""Expected form-finding time above which a job says beforehand how long it will take. [s]"""
+
+LONG_WORK = 120.0
+"""Expected time of a batch or a study above which a job says beforehand what it will cost. [s]"""
+
+
+def work_notice(estimate: WorkEstimate) -> str:
+    """What long work will cost, said before it starts; "" for work of :data:`LONG_WORK` or less.
+
+    Parameters
+    ----------
+    estimate : WorkEstimate
+        Or any object with ``seconds`` [s] and ``describe()``.
+    """
+    return f"{estimate.describe()} (Ctrl-C stops it)" if estimate.seconds > LONG_WORK else ""
+
+
+def form_finding_notice(n_nodes: int, seconds: float) -> str:
+    """How long a form-finding will take, said before it starts; "" for :data:`LONG_FORM_FINDING` or less.
+
+    Parameters
+    ----------
+    n_nodes : int
+        Nodes of the model to be form-found. [-]
+    seconds : float
+        Estimated run time (:func:`~presag_opt.static.run_time.form_find_estimate`). [s]
+    """
+    if seconds <= LONG_FORM_FINDING:
+        return ""
+    return f"form-finding {n_nodes} nodes takes about {duration(seconds)} on a typical machine (Ctrl-C stops it)"

@@ -8,9 +8,9 @@ job                             command                             returns
 :func:`dynamic_robust_design`   ``presag robust --dynamic``         :class:`~presag_opt.pipeline.band.BandAnswer`
 :func:`design_line`             ``presag design``                   :class:`~presag_opt.pipeline.line.LineAnswer`
 :func:`sensitivity_study`       ``presag sensitivity``              :class:`~presag_opt.sensitivity.analysis.SensitivityResult`
-:func:`tolerance`               ``presag tolerance --monte-carlo``  :class:`~presag_opt.robust.monte_carlo.MonteCarloResult`
+:func:`tolerance`               ``presag tolerance``                :class:`~presag_opt.jobs.installation_tolerance.ToleranceAnswer`
 :func:`validity`                ``presag validity``                 :class:`~presag_opt.studies.validity_results.ValidityResult`
-:func:`simulate`                ``presag simulate``                 :class:`~presag_opt.dynamics.simulate.SimulationResult`
+:func:`simulate`                ``presag simulate``                 :class:`~presag_opt.jobs.simulation.SimulationAnswer`
 ==============================  ==================================  ==============================================================
 
 Every job takes the designer's units at its boundary — km/h, mm, %, N and N/(km/h)² (an operating band
@@ -26,8 +26,8 @@ from importlib import import_module
 _JOBS = {
     "recommend": "presag_opt.jobs.band", "robust_design": "presag_opt.jobs.band",
     "dynamic_robust_design": "presag_opt.jobs.band", "design_line": "presag_opt.jobs.line",
-    "sensitivity_study": "presag_opt.jobs.studies", "tolerance": "presag_opt.jobs.studies",
-    "validity": "presag_opt.jobs.studies", "simulate": "presag_opt.jobs.studies",
+    "sensitivity_study": "presag_opt.jobs.studies", "tolerance": "presag_opt.jobs.installation_tolerance",
+    "validity": "presag_opt.jobs.studies", "simulate": "presag_opt.jobs.simulation",
 }
 """Each job by the module that defines it, imported on first use: the command line reads
 :mod:`presag_opt.jobs.options` at start-up without loading the line design and its report."""

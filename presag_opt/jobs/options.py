@@ -42,3 +42,12 @@ for side by side). [-]"""
 
 MONTE_CARLO_SAMPLES = 10_000
 """Realisations of the quasi-static Monte Carlo of installation errors (about a second). [-]"""
+
+DYNAMIC_MONTE_CARLO_SAMPLES = 100
+"""Realisations of the dynamic Monte Carlo of installation errors (tens of minutes on 2 cores). [-]"""
+
+MAX_INSTALLATION_ERROR_MM = 100.0
+"""Largest size of an installation error (a dropper's length, a mast's heights) the Monte Carlo accepts. [mm]"""
+
+MAX_MONTE_CARLO_SAMPLES = 1_000_000
+"""Most realisations of a Monte Carlo. [-]"""

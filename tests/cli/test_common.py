@@ -17,6 +17,7 @@ import pytest
 
 from presag_opt.cli import common
 from presag_opt.cli.common import Progress, output_folder, progress
+from presag_opt.dynamics import cost
 from presag_opt.errors import ConvergenceError, ModelError, StorageError
 
 
@@ -184,7 +185,7 @@ def test_progress_needs_at_most_one_of_quiet_and_progress(monkeypatch):
     (11.0, False, "presag: form-finding 5000 nodes takes about 11 s on a typical machine (Ctrl-C stops it)\n"),
     (600.0, False, "presag: form-finding 5000 nodes takes about 10 min on a typical machine (Ctrl-C stops it)\n"),
     (9000.0, False, "presag: form-finding 5000 nodes takes about 2.5 h on a typical machine (Ctrl-C stops it)\n"),
-    (common.LONG_FORM_FINDING, False, ""), (600.0, True, ""),
+    (cost.LONG_FORM_FINDING, False, ""), (600.0, True, ""),
 ])
 def test_a_long_form_finding_is_announced_unless_quiet(capsys, seconds, quiet, line):
     common.announce_form_finding(argparse.Namespace(quiet=quiet), 5000, seconds)
@@ -199,9 +200,9 @@ def test_long_work_is_announced_with_its_description_above_two_minutes(capsys):
         def describe(self):
             return "3 runs on 1 000 nodes: about 4 min"
 
-    common.announce_work(argparse.Namespace(), Estimate(common.LONG_WORK + 1.0))
+    common.announce_work(argparse.Namespace(), Estimate(cost.LONG_WORK + 1.0))
     assert capsys.readouterr().err == "presag: 3 runs on 1 000 nodes: about 4 min (Ctrl-C stops it)\n"
-    common.announce_work(argparse.Namespace(), Estimate(common.LONG_WORK))
+    common.announce_work(argparse.Namespace(), Estimate(cost.LONG_WORK))
     common.announce_work(argparse.Namespace(quiet=True), Estimate(1e6))
     assert capsys.readouterr().err == ""
 
