@@ -30,6 +30,7 @@ import argparse
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -139,6 +140,12 @@ def _first_failure(output: str) -> str:
     return output.strip().splitlines()[-1] if output.strip() else ""
 
 
+def _default_sigint() -> None:
+    """Start a tier with SIGINT's default action, as from a terminal: a tool started in the background
+    by a non-interactive shell ignores SIGINT, and its tests that interrupt a command would inherit that."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: Path, timeout: float,
               deselect: list[str]) -> dict:
     """Plant one fault (None: the tree as it is) in a fresh copy and run the tiers until one fails
@@ -170,8 +177,8 @@ def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: P
         try:
             done = subprocess.run([str(venv / "bin" / "python"), "-m", "pytest", "-x", "-q", "-rfE",
                                    "-p", "no:cacheprovider", *marker, *(f"--deselect={d}" for d in deselect)],
-                                  cwd=copy, env=env, capture_output=True,
-                                  text=True, timeout=timeout)
+                                  cwd=copy, env=env, capture_output=True, text=True, timeout=timeout,
+                                  preexec_fn=_default_sigint)
             status, output = done.returncode, done.stdout + done.stderr
         except subprocess.TimeoutExpired:
             status, output = -1, f"timed out after {timeout:.0f} s"
