@@ -128,6 +128,16 @@ def simulation_case(
     -------
     SimulationCase
         The case with every value given in place (SI inside).
+
+    Examples
+    --------
+    The case study's case at another static force and pre-sag (its speeds kept):
+
+    >>> from presag_opt.jobs.simulation import simulation_case
+    >>> case = simulation_case(case="case_study_st98", static_force=120.0, presag_mm=45.0)
+    >>> print(f"F_stat {case.operation.static_force:g} N, S_rel {case.catenary.presag_rel * 1e3:.2f} ‰, "
+    ...       f"{len(case.speeds)} speeds")
+    F_stat 120 N, S_rel 0.75 ‰, 10 speeds
     """
     from presag_opt.dynamics.case import SimulationCase, load_case
     from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
