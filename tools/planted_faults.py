@@ -51,6 +51,8 @@ class Fault:
     new: str
     later: tuple[str, str] | None = None
     """The same fault in a later version whose text differs (``old``, ``new``), tried when ``old`` is absent."""
+    later_path: str | None = None
+    """The file of ``later`` when the code moved to another file (default ``path``)."""
 
     def replacement(self, text: str) -> tuple[str, str] | None:
         """The (old, new) pair that occurs exactly once in ``text``, or None."""
@@ -58,6 +60,14 @@ class Fault:
             if pair is not None and text.count(pair[0]) == 1:
                 return pair
         return None
+
+    def target(self, root: Path) -> Path:
+        """The file to plant the fault in under ``root``: ``path``, or ``later_path`` where ``path`` is gone
+        or no longer holds ``old``."""
+        first = root / self.path
+        if self.later_path is None or (first.is_file() and self.old in first.read_text(encoding="utf-8")):
+            return first
+        return root / self.later_path
 
 
 FAULTS = (
@@ -79,7 +89,9 @@ FAULTS = (
     Fault("survey-curve-sign", "presag_opt/design/line_rules.py",
           "a sign in the survey geometry: the chord of a curved span bows away from the curve's centre",
           "y = np.abs(a.stagger + (b.stagger - a.stagger) * x / length + curve)",
-          "y = np.abs(a.stagger + (b.stagger - a.stagger) * x / length - curve)"),
+          "y = np.abs(a.stagger + (b.stagger - a.stagger) * x / length - curve)",
+          later=("    return a.stagger + (b.stagger - a.stagger) * x / length + curve",
+                 "    return a.stagger + (b.stagger - a.stagger) * x / length - curve")),
     Fault("percentile", "presag_opt/robust/monte_carlo.py",
           "a percentile: every Monte Carlo percentile Pk reported as P(k - 5)",
           "value=float(np.percentile(values, level))", "value=float(np.percentile(values, level - 5))"),
@@ -89,7 +101,9 @@ FAULTS = (
           later=("    if validity.trusted and quasi:", "    if quasi:")),
     Fault("height-error-unit", "presag_opt/cli/tolerance_mc.py",
           "a unit conversion: the command line's --height-error in cm instead of mm",
-          "contact_wire_height=height * 1e-3,", "contact_wire_height=height * 1e-2,"),
+          "contact_wire_height=height * 1e-3,", "contact_wire_height=height * 1e-2,",
+          later=("contact_wire_height=height_error_mm * 1e-3,", "contact_wire_height=height_error_mm * 1e-2,"),
+          later_path="presag_opt/jobs/installation_tolerance.py"),
     Fault("pantograph-head-mass", "models/pantographs/case_study_2mass_friction.toml",
           "a data file value: the case-study pantograph's head mass 7.2 kg becomes 7.9 kg",
           'mass = { value = 7.2, unit = "kg"', 'mass = { value = 7.9, unit = "kg"'),
@@ -156,7 +170,7 @@ def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: P
         shutil.rmtree(copy)
     shutil.copytree(base, copy)
     if fault is not None:
-        target = copy / fault.path
+        target = fault.target(copy)
         text = target.read_text(encoding="utf-8")
         pair = fault.replacement(text)
         if pair is None:
