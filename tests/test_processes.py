@@ -162,7 +162,16 @@ def test_a_worker_runs_its_linear_algebra_on_one_thread(policy):
     assert len(threads) >= 1 and set(threads) == {1}
 
 
-def test_held_interrupts_arrive_when_the_block_ends():
+@pytest.fixture
+def ctrl_c_raises():
+    """Ctrl-C raises KeyboardInterrupt here, as in a terminal: a test run started in the background by a
+    non-interactive shell inherits SIGINT ignored."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_held_interrupts_arrive_when_the_block_ends(ctrl_c_raises):
     from presag_opt.processes import interrupts_held
 
     reached = []
@@ -173,9 +182,13 @@ def test_held_interrupts_arrive_when_the_block_ends():
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is back
     with interrupts_held():  # nothing arrives: nothing is raised
         pass
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    with interrupts_held():  # an ignored signal stays ignored
+        signal.raise_signal(signal.SIGINT)
+    assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
 
 
-def test_an_interrupt_while_a_worker_starts_leaves_no_half_started_worker(monkeypatch):
+def test_an_interrupt_while_a_worker_starts_leaves_no_half_started_worker(monkeypatch, ctrl_c_raises):
     """The interrupt arrives as a spawned worker starts (here: just before, raised in the main thread).
     Held back, it is raised once the worker is started and registered, and the worker is killed (exit by
     SIGKILL). Delivered at once, it broke the hand-over of the worker's start-up data, and the worker died
