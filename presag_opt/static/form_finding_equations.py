@@ -28,10 +28,11 @@ import scipy.sparse.linalg as spla
 from presag_opt.static.discretisation import PIN_STIFFNESS, Discretisation
 from presag_opt.static.potential import PhysicalParameters, axial_energy, spring_energy
 
-SYSTEMS_KEPT = 8
+SYSTEMS_KEPT = 4
 """Topologies whose symbolic equations a process keeps (least recently used dropped first): the two
-layouts of a recommendation and the span lists a screening draws for the mixed one, or the sections a
-worker of a line design form-finds. An entry of a 1.3 km section takes a few tens of MB. [-]"""
+layouts of a recommendation and the last span lists a screening drew for the mixed one, a section's
+passes and re-solves. The equations and solver of the 1.34 km mixed layout add about 170 MB to a
+process (75 MB for the 600 m ideal one), which bounds the memo's size. [-]"""
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,7 +24,12 @@ import numpy as np
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
 from presag_opt.static.equilibrium_newton import round_off_force
-from presag_opt.static.form_finding_equations import FormFindingTopology, form_finding_problem, topology_system
+from presag_opt.static.form_finding_equations import (
+    SYSTEMS_KEPT,
+    FormFindingTopology,
+    form_finding_problem,
+    topology_system,
+)
 from presag_opt.static.potential import PhysicalParameters
 
 
@@ -69,19 +74,20 @@ RESTART_OPTIONS = (("hessian_approximation", "exact"), ("max_iter", 100))
 the equations (CasADi's, a second method rather than more iterations of the first; building it costs
 about as much as the first solve). Counted as a restart (:attr:`FormFindingSolution.restarts`)."""
 
-SCALED_VIOLATION = 1e-4
+SCALED_VIOLATION = 1e-5
 """IPOPT's ``constr_viol_tol`` on the equations as it sees them, g·c/τ with c this value and τ the
 violation accepted (:data:`EQUATION_TOLERANCE` or the round-off, see :func:`solve_form_finding`):
 τ is a parameter of the problem rather than an option of the solver, so one solver serves every
-problem of a topology. IPOPT scales each equation to a largest gradient of 100 at the start
-(gradient-based scaling, no factor below 1e-8); with c/τ between about 0.2 and 100 (τ between 1e-6 N
-and 5e-4 N, a 5 km section's round-off) and the equations' largest gradients between about 1e4 and
-1e8 N/m (string and dropper stiffnesses), that scaling absorbs c/τ, and IPOPT iterates as on g
-itself. [N]"""
+problem of a topology. IPOPT scales each equation to a largest gradient of 100 at its start
+(gradient-based scaling, with no factor below 1e-8). The equations' largest gradients lie between
+about 8e3 N/m (string stiffness) and 1e9 N/m (the messenger-wire pins on curves) on the built-in
+models and the sections of a surveyed line, and τ between 1e-6 N and about 5e-4 N (the round-off of
+a long section), so c/τ lies between 0.02 and 10 and every scaled equation still has a largest
+gradient between 100 and 1e10: IPOPT's scaling absorbs c/τ and it iterates as on g itself. [N]"""
 
-SOLVERS_KEPT = 8
-"""IPOPT solvers a process keeps, per topology and options (least recently used dropped first; see
-:data:`~presag_opt.static.form_finding_equations.SYSTEMS_KEPT`). [-]"""
+SOLVERS_KEPT = SYSTEMS_KEPT
+"""IPOPT solvers a process keeps, per topology and options (least recently used dropped first; as
+many as :data:`~presag_opt.static.form_finding_equations.SYSTEMS_KEPT`: a restart's solver is rare). [-]"""
 
 EQUATION_TOLERANCE = 1e-6
 """Largest violation of a form-finding equation accepted, unless the round-off of the nodal forces
@@ -141,7 +147,9 @@ def solve_form_finding(
     (whose lateral position is the stagger), and the designed height at ``target_dofs``. The system
     is square; IPOPT solves it as a feasibility problem (zero objective), to an equation violation of
     :data:`EQUATION_TOLERANCE` or the round-off of the nodal forces, whichever is larger. A solve that
-    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`.
+    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`. The solvers are built once
+    per topology and kept by the process (:func:`_solver`), so only the first problem of a structure
+    pays for building one (about 1.5 s for the 600 m case-study section, its solve about 0.05 s).
 
     Parameters
     ----------
