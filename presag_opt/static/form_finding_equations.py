@@ -102,7 +102,18 @@ class FormFindingTopology:
 
     @classmethod
     def of(cls, disc: Discretisation, wire_tension: np.ndarray, target_dofs: np.ndarray) -> FormFindingTopology:
-        """The topology of the form-finding of ``disc`` (arguments as for :func:`form_finding_problem`)."""
+        """The topology of the form-finding of ``disc``.
+
+        Parameters
+        ----------
+        disc : Discretisation
+            The discretised section.
+        wire_tension : ndarray
+            Horizontal tension of each axial element, 0 for those that are not wire segments (only
+            which are wires enters the topology). [N]
+        target_dofs : ndarray of int
+            Degrees of freedom (heights) held at their targets. [-]
+        """
         fixed = disc.fixed_dofs.reshape(-1, 3)
         z_free = np.flatnonzero(~fixed[:, 2])
         clamps = disc.axial.node_a[disc.arm_elements]
@@ -224,7 +235,7 @@ class FormFindingSystem:
     coordinates : casadi.Function
         x(v, p), every coordinate. [m]
     layout : tuple of (str, int)
-        The blocks of p, by name and size, in order.
+        The blocks of p, by name and size, in order. [-]
     z_unknown : ndarray of int
         Nodes whose height is unknown, in the order of v. [-]
     n_side, n_arm, n_drop : int
@@ -321,7 +332,7 @@ def topology_system(topology: FormFindingTopology, layout: tuple[tuple[str, int]
     topology : FormFindingTopology
         The structure.
     layout : tuple of (str, int)
-        Names and sizes of the blocks of p (:func:`_numbers`; the sizes follow from the topology).
+        Names and sizes of the blocks of p (:func:`_numbers`; the sizes follow from the topology). [-]
     """
     t = topology
     p = {name: ca.SX.sym(name, size) for name, size in layout}
