@@ -15,7 +15,8 @@ gives the pool a *job*: an object handed to each worker once, which the tasks th
 When the work ends normally the pool is closed and waited for. When it ends by an error, Ctrl-C or
 SIGTERM (the command line turns SIGTERM into the same interrupt as Ctrl-C), the queued tasks are
 dropped and the worker processes are killed at once, so that none keeps computing after its parent
-has given up. When the parent itself is killed (SIGKILL, out of memory), each worker exits within
+has given up; a worker is started with both interrupts held back (:class:`_StoppablePool`), so that
+none is left half-started, reading its start-up data from a closed pipe. When the parent itself is killed (SIGKILL, out of memory), each worker exits within
 :data:`PARENT_POLL` seconds: on Linux the kernel kills it with the parent (``PR_SET_PDEATHSIG``),
 and everywhere a thread in the worker ends it once it has been re-parented. What a parametric study
 has stored stays stored (see :mod:`presag_opt.studies.store`).
@@ -113,14 +114,49 @@ def worker_pool(workers: int, policy: WorkerPolicy = WorkerPolicy.PICKLED,
     """
     if not isinstance(policy, WorkerPolicy):
         raise ModelError(f"policy = {policy!r} is not one of {', '.join(p.name for p in WorkerPolicy)}")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method(policy)),
-                               initializer=_start_worker, initargs=(os.getpid(), runtime.current(), job))
+    pool = _StoppablePool(max_workers=workers, mp_context=multiprocessing.get_context(start_method(policy)),
+                          initializer=_start_worker, initargs=(os.getpid(), runtime.current(), job))
     try:
         yield pool
     except BaseException:
         stop(pool)
         raise
     pool.shutdown(wait=True)
+
+
+class _StoppablePool(ProcessPoolExecutor):
+    """A process pool that starts each worker with Ctrl-C and SIGTERM held back until it is started and
+    registered: an interrupt in the middle of handing a spawned worker its start-up data closed the
+    pipe under it, and the worker printed an ``EOFError`` traceback after the command's last line
+    (seen once in CI, on a sweep stopped as its workers started). Held, the interrupt is raised right
+    after, and :func:`stop` kills the registered worker, which prints nothing."""
+
+    def _spawn_process(self) -> None:
+        with interrupts_held():
+            super()._spawn_process()
+
+
+@contextmanager
+def interrupts_held() -> Iterator[None]:
+    """Hold back Ctrl-C and SIGTERM for the length of the block, then deliver the first one that arrived
+    to the handler in force (the command line's raises :class:`KeyboardInterrupt`). Outside the main
+    thread, where no handler can be set, the block changes nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        for number, handler in previous.items():
+            if handler not in (signal.SIG_IGN, None):
+                signal.signal(number, lambda number, frame: received.append(number))
+        yield
+    finally:
+        for number, handler in previous.items():
+            if handler is not None:
+                signal.signal(number, handler)
+    if received:
+        signal.raise_signal(received[0])
 
 
 STOP_WAIT = 60.0

@@ -160,3 +160,40 @@ def test_a_worker_runs_its_linear_algebra_on_one_thread(policy):
     with worker_pool(2, policy) as pool:
         threads = pool.submit(_blas_threads).result()
     assert len(threads) >= 1 and set(threads) == {1}
+
+
+def test_held_interrupts_arrive_when_the_block_ends():
+    from presag_opt.processes import interrupts_held
+
+    reached = []
+    with pytest.raises(KeyboardInterrupt), interrupts_held():
+        signal.raise_signal(signal.SIGINT)
+        reached.append("after the signal")  # the block runs to its end
+    assert reached == ["after the signal"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is back
+    with interrupts_held():  # nothing arrives: nothing is raised
+        pass
+
+
+def test_an_interrupt_while_a_worker_starts_leaves_no_half_started_worker(monkeypatch):
+    """The interrupt arrives as a spawned worker starts (here: just before, raised in the main thread).
+    Held back, it is raised once the worker is started and registered, and the worker is killed (exit by
+    SIGKILL). Delivered at once, it broke the hand-over of the worker's start-up data, and the worker died
+    on the closed pipe printing a traceback."""
+    import multiprocessing.process
+
+    started = []
+    original = multiprocessing.process.BaseProcess.start
+
+    def start_interrupted(process):
+        started.append(process)
+        signal.raise_signal(signal.SIGINT)
+        original(process)
+
+    monkeypatch.setattr(multiprocessing.process.BaseProcess, "start", start_interrupted)
+    with pytest.raises(KeyboardInterrupt), worker_pool(1, WorkerPolicy.PICKLED) as pool:
+        pool.submit(os.getpid)
+    monkeypatch.undo()
+    (worker,) = started
+    worker.join(30)  # an event: the worker's exit
+    assert worker.exitcode == -signal.SIGKILL

@@ -147,7 +147,7 @@ def _default_sigint() -> None:
 
 
 def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: Path, timeout: float,
-              deselect: list[str]) -> dict:
+              deselect: list[str], tiers: tuple[str, ...] | None = None) -> dict:
     """Plant one fault (None: the tree as it is) in a fresh copy and run the tiers until one fails
     (``deselect``: tests left out, e.g. ones that fail on the version without any fault)."""
     name = fault.name if fault else "control"
@@ -171,7 +171,7 @@ def run_fault(fault: Fault | None, version: str, base: Path, venv: Path, work: P
                                                                "PRESAG_NO_COMPILE", "CI")}
     env.update(XDG_CACHE_HOME=str(cache), PATH=f"{venv / 'bin'}:{env.get('PATH', '')}")
     result = {"fault": name, "version": version, "caught_by": "none", "detail": "", "tiers": {}}
-    for tier in TIERS[version]:
+    for tier in tiers or TIERS[version]:
         marker = [] if tier == "default" else ["-m", tier]
         started = time.monotonic()
         try:
@@ -199,6 +199,8 @@ def main() -> None:
     parser.add_argument("--timeout", type=float, default=3600.0, help="seconds per tier run (default 3600)")
     parser.add_argument("--deselect-before", nargs="*", default=[], metavar="NODEID",
                         help="tests to leave out of the earlier version's runs (ones that fail there without a fault)")
+    parser.add_argument("--tiers", help="comma-separated tiers to run, in order (default: each version's TIERS); "
+                        "a fault none of them catches is reported as caught by none of those tiers")
     parser.add_argument("--work", type=Path, default=Path("/tmp/presag-faults"))
     parser.add_argument("--json", type=Path, help="write the results here as well (after each fault)")
     args = parser.parse_args()
@@ -209,7 +211,8 @@ def main() -> None:
         base, venv = prepare(version, revision, args.work)
         for fault in ([None] if args.control else []) + chosen:
             deselect = args.deselect_before if version == "before" else []
-            r = run_fault(fault, version, base, venv, args.work, args.timeout, deselect)
+            r = run_fault(fault, version, base, venv, args.work, args.timeout, deselect,
+                          tuple(args.tiers.split(",")) if args.tiers else None)
             results.append(r)
             seconds = sum(t["seconds"] for t in r.get("tiers", {}).values())
             print(f"{version:6s} {r['fault']:24s} caught by {r['caught_by']:14s} ({seconds:5d} s)  {r['detail']}",

@@ -83,11 +83,6 @@ def within_percent(text: str) -> float:
         raise ModelError(f"--within = {text!r}: write a percentage such as 10 (or 10%)") from None
 
 
-def parse_within(text: str) -> float:
-    """``10`` or ``10%`` (percent) -> 0.1; the range is the API's to check."""
-    return within_percent(text) / 100.0
-
-
 def add_decision_options(parser: argparse.ArgumentParser, *, simulated: str, dynamic_robust: bool = True,
                          monte_carlo: bool = True) -> None:
     """The options of the decision (see the module docstring).

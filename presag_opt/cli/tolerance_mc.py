@@ -120,7 +120,22 @@ def tolerance_keywords(args: argparse.Namespace) -> dict:
 
 def print_answer(args: argparse.Namespace, answer, plot) -> int:
     """Print the Monte Carlo of ``presag tolerance --monte-carlo`` (a table, or ``--json``) and draw its
-    histogram; the exit status says whether realisations failed."""
+    histogram.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (``--json``).
+    answer : ToleranceAnswer
+        The job's answer, with its Monte Carlo.
+    plot : Path or None
+        Where to draw the histogram of the worst cases (None: no plot).
+
+    Returns
+    -------
+    int
+        Exit status: 0, or the status of a Monte Carlo with failed realisations. [-]
+    """
     data = answer.to_dict()
     if plot:
         _plot(answer.worst_cases(), data, plot)

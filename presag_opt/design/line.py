@@ -45,6 +45,7 @@ from presag_opt.design.line_results import (
 from presag_opt.design.line_rules import check_rules, span_gradients
 from presag_opt.design.recommendation import layout_recommendation
 from presag_opt.design.section import SectionElasticity, default_spans, section_curves
+from presag_opt.design.speed_range import StaticSteadyArmUplift
 from presag_opt.design.survey_terms import in_survey_terms
 from presag_opt.errors import ConvergenceError, ModelError, PresagError, failure_reason
 from presag_opt.evaluation_store import Evaluation
@@ -334,6 +335,9 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     centre = 0.5 * sum(band.mean_force_band())
     top = band.mean_force_band()[1]
     curves = dict(zip(as_built.spans, as_built.curves_at(centre)))
+    # the static uplift is that of the top of the band: F_m,top times the (secant) elasticity at F_m,top,
+    # the decision's estimate, here at each steady arm of the line as built
+    at_top = dict(zip(as_built.spans, as_built.curves_at(top)))
     arm = state.steady_arm_forces()
     inner = _sized_spans(catenary)
     own = sizing.span_presags
@@ -347,7 +351,8 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
             chainage=section.masts[s].chainage, length=float(lengths[s]), presag=float(presag[s]),
             e_mid=curves[s].e_mid, e_mast=float(curves[s].elasticity[0]), delta_e=curves[s].delta_e,
             steady_arm_force=None if termination or not len(arm) else float(arm[s]),
-            static_uplift=None if termination else top * float(curves[s].elasticity[0]), sized=s in inner,
+            static_uplift=None if termination else StaticSteadyArmUplift(
+                mean_force=top, support_elasticity=float(at_top[s].elasticity[0])).uplift, sized=s in inner,
             tolerance=(float(own.tolerance[s, 0]), float(own.tolerance[s, 1])) if checked else None,
             robust_presag=float(own.presag[s]) if checked else None,
             note="" if s in inner else END_SPAN_NOTE, uniformity=curves[s].uniformity, curve=curves[s],

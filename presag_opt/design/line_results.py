@@ -227,8 +227,9 @@ class SpanDesign:
         Axial force of the steady arm at ``from_mast`` in the built state: + tension (pull-off),
         − compression (push-off); None where ``from_mast`` is the section's termination. [N]
     static_uplift : float or None
-        Static uplift estimate at ``from_mast``: F_m at the top of the band times e_mast there; None
-        where ``from_mast`` is the termination (it has no steady arm to lift). [m]
+        Static uplift estimate at ``from_mast``: F_m at the top of the band times the elasticity there at
+        that force, on the line as built (the decision's estimate, mast by mast); None where ``from_mast``
+        is the termination (it has no steady arm to lift). [m]
     sized : bool
         Whether the span took part in sizing the pre-sag (not the section's end spans).
     tolerance : tuple of float or None

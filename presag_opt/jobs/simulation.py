@@ -102,8 +102,43 @@ def simulation_case(
     presag_mm: float | None = None,
     spacing_m: Sequence[float] | None = None,
 ) -> SimulationCase:
-    """The case of :func:`simulate`: a case file (its values replaced where given), or one built from a
-    catenary, a pantograph, speeds and static forces. Units as in :func:`simulate`."""
+    """The case of :func:`simulate`: a case (its values replaced where given), or one built from a catenary,
+    a pantograph, speeds and static forces.
+
+    Parameters
+    ----------
+    model : str, Path or Catenary, optional
+        The catenary; or give ``case``.
+    pantograph : str, Path or Pantograph, optional
+        The pantograph (required with ``model``; with ``case``, replaces the case's).
+    case : str, Path or SimulationCase, optional
+        A case (built-in name, file or object).
+    speed_kmh : float or sequence of float, optional
+        Train speed(s); the first is the case's operating speed. [km/h]
+    static_force : float or sequence of float, optional
+        Static uplift force(s); the first is the case's. [N]
+    aero_coefficient_kmh : float, optional
+        Aerodynamic uplift coefficient α_ae. [N/(km/h)²]
+    presag_mm : float, optional
+        Mid-span pre-sag of the longest span, replacing the catenary's. [mm]
+    spacing_m : sequence of float, optional
+        Distances between consecutive pantographs. [m]
+
+    Returns
+    -------
+    SimulationCase
+        The case with every value given in place (SI inside).
+
+    Examples
+    --------
+    The case study's case at another static force and pre-sag (its speeds kept):
+
+    >>> from presag_opt.jobs.simulation import simulation_case
+    >>> case = simulation_case(case="case_study_st98", static_force=120.0, presag_mm=45.0)
+    >>> print(f"F_stat {case.operation.static_force:g} N, S_rel {case.catenary.presag_rel * 1e3:.2f} ‰, "
+    ...       f"{len(case.speeds)} speeds")
+    F_stat 120 N, S_rel 0.75 ‰, 10 speeds
+    """
     from presag_opt.dynamics.case import SimulationCase, load_case
     from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
     from presag_opt.dynamics.settings import Operation, SimulationSettings

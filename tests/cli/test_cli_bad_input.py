@@ -185,9 +185,9 @@ def test_the_other_syntax_gets_a_hint(presag, tmp_path, args, words):
 
 
 def test_within_is_a_percentage_with_or_without_the_sign():
-    from presag_opt.cli.robust import parse_within
+    from presag_opt.cli.decision_options import within_percent
 
-    assert parse_within("10") == parse_within("10%") == pytest.approx(0.10)
+    assert within_percent("10") == within_percent("10%") == pytest.approx(10.0)
 
 
 def test_version_and_grammar_in_help(presag, tmp_path):

@@ -15,7 +15,7 @@ from presag_opt.cli.decision_options import (
     add_numerics_options,
     decision_settings,
     operating_band,
-    parse_within,
+    within_percent,
     workers_of,
 )
 from presag_opt.design import CASE_STUDY_BAND
@@ -44,14 +44,14 @@ def test_the_defaults_are_the_case_study_s_and_the_toolkit_s_constants():
     assert args.element_length == 0.5 and workers_of(args) == WORKERS
 
 
-@pytest.mark.parametrize(("text", "value"), [("10", 0.10), ("10%", 0.10), (" 12.5 % ", 0.125), ("0", 0.0)])
+@pytest.mark.parametrize(("text", "value"), [("10", 10.0), ("10%", 10.0), (" 12.5 % ", 12.5), ("0", 0.0)])
 def test_within_takes_a_number_or_a_percentage(text, value):
-    assert parse_within(text) == pytest.approx(value, rel=1e-15)
+    assert within_percent(text) == pytest.approx(value, rel=1e-15)
 
 
 def test_within_that_is_not_a_number_is_one_line():
     with pytest.raises(ModelError, match=r"--within = 'ten': write a percentage such as 10 \(or 10%\)"):
-        parse_within("ten")
+        within_percent("ten")
 
 
 def test_the_crew_tolerance_and_the_dropper_error_reach_the_pipeline_in_metres():

@@ -180,3 +180,36 @@ def test_the_elasticity_as_built_is_the_sizing_pass_s_where_the_built_presag_is_
         np.testing.assert_allclose(s.curve.elasticity, sized[s.span - 1].elasticity, rtol=1e-9)
         assert s.uniformity == pytest.approx(sized[s.span - 1].uniformity, rel=1e-9)
         assert 0.0 < s.uniformity < 1.0
+
+
+
+def test_the_static_uplift_of_each_arm_is_the_decision_s_estimate_at_the_top_of_the_band():
+    """F_m,top · e(F_m,top) at every steady arm, the law of the decision's static estimate: on a curve with
+    push-off arms the elasticity at a support grows with the force (droppers next to the arm go slack), so the
+    elasticity at the band centre would understate it (here by up to 40 %). Built at the sizing pass's own
+    pre-sag, the largest arm's value is the decision's estimate itself."""
+    from presag_opt.system.survey import SurveyMast
+
+    base = load_catenary("st_7.1_mixed")
+    lengths, masts, chainage = (42.0, 45.0, 48.0, 40.0, 36.0, 44.0, 50.0, 38.0, 46.0), [], 0.0
+    for i, length in enumerate(lengths):
+        radius = -800.0 if 3 <= i < 8 else 0.0
+        masts.append(SurveyMast(mast=f"B{i:02d}", chainage=chainage, stagger=0.2 if i >= 3 else 0.3 * (-1) ** i,
+                                contact_wire_height=5.5, system_height=1.2, curve_radius=radius,
+                                steady_arm="push-off" if i >= 3 and i % 2 else "pull-off"))
+        chainage += length
+    sizing = size_line(Survey(masts=tuple(masts)), base, CASE_STUDY_BAND,
+                       LineOptions(element_length=1.0, step=2.0, workers=1))
+    design = build_line(sizing, base.presag_rel)
+    low, top = CASE_STUDY_BAND.mean_force_band()
+    centre = 0.5 * (low + top)
+    curves = sizing.sizing[0].elasticity
+    at_top = dict(zip(curves.spans, curves.curves_at(top)))
+    at_centre = dict(zip(curves.spans, curves.curves_at(centre)))
+    arms = [s for s in design.spans if s.static_uplift is not None]
+    for s in arms:
+        assert s.static_uplift == pytest.approx(top * at_top[s.span - 1].elasticity[0], rel=1e-6)
+    understated = max(s.static_uplift / (top * at_centre[s.span - 1].elasticity[0]) for s in arms)
+    assert understated > 1.2  # the case tells the two forces apart
+    decision = sizing.sizing[0].recommendation.steady_arm_uplift.uplift
+    assert max(s.static_uplift for s in arms) == pytest.approx(decision, rel=1e-6)

@@ -1,5 +1,5 @@
-"""The study jobs (presag_opt.jobs.studies): the Monte Carlo in mm, refusals in the designer's units before any
-work, the Monte Carlo summary in a notebook."""
+"""The study jobs (presag_opt.jobs.studies) and the refusals the jobs share: a supercritical speed refused in the
+designer's units before any work, a missing study store in one line."""
 
 from __future__ import annotations
 
@@ -9,48 +9,6 @@ import pytest
 
 from presag_opt import OperatingBand, simulate, tolerance, validity
 from presag_opt.errors import ModelError
-
-
-def test_the_monte_carlo_shows_its_percentiles_in_mm():
-    answer = tolerance(dropper_error_mm=2.0, samples=400, seed=3)
-    result = answer.monte_carlo
-    assert result.errors.dropper_length == pytest.approx(2e-3, rel=1e-12) and result.samples == 400
-    rows = answer.table()
-    assert [r[""] for r in rows] == ["error-free", "P50", "P90", "P95", "P99"]
-    assert rows[3]["value [mm]"] == pytest.approx(result.percentiles[95].value * 1e3, rel=1e-12)
-    assert rows[0]["value [mm]"] <= rows[1]["value [mm]"] <= rows[3]["value [mm]"]  # errors only add waviness
-    assert "P95" in answer._repr_html_() and list(answer.to_frame().columns) == list(rows[0])
-    # the design examined is the robust parabola of the band, and the interval is the study's
-    assert answer.presag_rel == answer.study.robust_parabola.presag_rel
-    assert answer.to_dict()["s_interval_mm"][0] == pytest.approx(
-        answer.study.tolerance.low * answer.study.reference_span * 1e3, rel=1e-12)
-
-
-def test_without_errors_the_answer_is_the_interval_and_the_same_study_serves_the_monte_carlo():
-    interval = tolerance(within_percent=5.0)
-    assert interval.monte_carlo is None and interval.study.tolerance.within == pytest.approx(0.05)
-    assert interval.to_dict()["tolerance_mm"][0] < interval.presag_mm < interval.to_dict()["tolerance_mm"][1]
-    assert "interval within 5 %" in interval._repr_html_()
-    with pytest.raises(ModelError, match="no Monte Carlo"):
-        interval.worst_cases()
-    found = tolerance(find_dropper_tolerance=True, samples=400, within_percent=5.0)
-    assert found.dropper_tolerance is not None and found.monte_carlo is found.dropper_tolerance.at_tolerance
-    assert found.study.tolerance.low == pytest.approx(interval.study.tolerance.low, rel=1e-9)
-
-
-@pytest.mark.parametrize(("keywords", "message"), [
-    ({"dropper_error_mm": 101.0}, r"dropper_error_mm = 101 mm is outside the valid range \[0, 100\] mm"),
-    ({"dropper_error_mm": 2.0, "samples": 0}, r"samples = 0 is outside the valid range \[1, 1e\+06\]"),
-    ({"dropper_error_mm": 2.0, "samples": 2.5}, "samples = 2.5 is not a whole number"),
-    ({"find_dropper_tolerance": True, "dynamic": True}, "find_dropper_tolerance is quasi-static"),
-    ({"find_dropper_tolerance": True, "dropper_error_mm": 2.0}, "searches the dropper error"),
-    ({"dynamic": True}, "needs dropper_error_mm"),
-])
-def test_the_tolerance_job_refuses_bad_keywords_before_any_work(keywords, message):
-    started = time.monotonic()
-    with pytest.raises(ModelError, match=message):
-        tolerance(**keywords)
-    assert time.monotonic() - started < 5  # no form-finding
 
 
 def test_a_supercritical_speed_is_refused_before_any_work():
