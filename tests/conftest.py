@@ -199,12 +199,16 @@ def pytest_sessionfinish(session):
 
 @pytest.fixture(scope="session", autouse=True)
 def _static_models_built_in_this_session():
-    """Start the session with no static model kept in memory (``static_model``'s cache). A mutation
-    tester that forks each mutant's session from a process that already ran the tests would otherwise
-    reuse discretisations built by the unmutated code, and a mutant in them would seem to survive."""
+    """Start the session with no static model, form-finding equations or IPOPT solver kept in memory
+    (the memos of ``static_model`` and of the form-finding's topologies). A mutation tester that forks
+    each mutant's session from a process that already ran the tests would otherwise reuse what the
+    unmutated code built, and a mutant in it would seem to survive."""
+    from presag_opt.static import form_finding_equations, form_finding_solver
     from presag_opt.static.equilibrium import _static_model
 
-    _static_model.cache_clear()
+    for memo in (_static_model, form_finding_equations.topology_system, form_finding_equations._target_jacobians,
+                 form_finding_solver._solver):
+        memo.cache_clear()
     yield
 
 

@@ -2,11 +2,15 @@
 
 :func:`solve_form_finding` hands the square system of :mod:`presag_opt.static.form_finding_equations`
 to IPOPT (through CasADi's ``nlpsol``) as a feasibility problem (zero objective) with the options
-:data:`IPOPT_OPTIONS`, and returns a :class:`FormFindingSolution`.
+:data:`IPOPT_OPTIONS`, and returns a :class:`FormFindingSolution`. The solver is built once per
+topology and options and kept by the process (:data:`SOLVERS_KEPT`): the numbers of a problem are
+parameters of its equations, so a second form-finding of the same structure (another sample of a
+screening, the next pass, a re-solve) only runs IPOPT.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import signal
 import threading
@@ -20,7 +24,12 @@ import numpy as np
 from presag_opt.errors import ConvergenceError
 from presag_opt.static.discretisation import Discretisation
 from presag_opt.static.equilibrium_newton import round_off_force
-from presag_opt.static.form_finding_equations import form_finding_system
+from presag_opt.static.form_finding_equations import (
+    SYSTEMS_KEPT,
+    FormFindingTopology,
+    form_finding_problem,
+    topology_system,
+)
 from presag_opt.static.potential import PhysicalParameters
 
 
@@ -64,6 +73,21 @@ RESTART_OPTIONS = (("hessian_approximation", "exact"), ("max_iter", 100))
 """What a solve that did not converge is begun again with, from the same start: the exact Hessian of
 the equations (CasADi's, a second method rather than more iterations of the first; building it costs
 about as much as the first solve). Counted as a restart (:attr:`FormFindingSolution.restarts`)."""
+
+SCALED_VIOLATION = 1e-5
+"""IPOPT's ``constr_viol_tol`` on the equations as it sees them, g·c/τ with c this value and τ the
+violation accepted (:data:`EQUATION_TOLERANCE` or the round-off, see :func:`solve_form_finding`):
+τ is a parameter of the problem rather than an option of the solver, so one solver serves every
+problem of a topology. IPOPT scales each equation to a largest gradient of 100 at its start
+(gradient-based scaling, with no factor below 1e-8). The equations' largest gradients lie between
+about 8e3 N/m (string stiffness) and 1e9 N/m (the messenger-wire pins on curves) on the built-in
+models and the sections of a surveyed line, and τ between 1e-6 N and about 5e-4 N (the round-off of
+a long section), so c/τ lies between 0.02 and 10 and every scaled equation still has a largest
+gradient between 100 and 1e10: IPOPT's scaling absorbs c/τ and it iterates as on g itself. [N]"""
+
+SOLVERS_KEPT = SYSTEMS_KEPT
+"""IPOPT solvers a process keeps, per topology and options (least recently used dropped first; as
+many as :data:`~presag_opt.static.form_finding_equations.SYSTEMS_KEPT`: a restart's solver is rare). [-]"""
 
 EQUATION_TOLERANCE = 1e-6
 """Largest violation of a form-finding equation accepted, unless the round-off of the nodal forces
@@ -123,7 +147,9 @@ def solve_form_finding(
     (whose lateral position is the stagger), and the designed height at ``target_dofs``. The system
     is square; IPOPT solves it as a feasibility problem (zero objective), to an equation violation of
     :data:`EQUATION_TOLERANCE` or the round-off of the nodal forces, whichever is larger. A solve that
-    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`.
+    IPOPT does not finish is begun again once with :data:`RESTART_OPTIONS`. The solvers are built once
+    per topology and kept by the process (:func:`_solver`), so only the first problem of a structure
+    pays for building one (about 1.5 s for the 600 m case-study section, its solve about 0.05 s).
 
     Parameters
     ----------
@@ -143,16 +169,15 @@ def solve_form_finding(
     ConvergenceError
         If IPOPT does not report success after the restart either.
     """
-    system = form_finding_system(disc, params, wire_tension, target_dofs, x_design)
-    problem = {"x": system.unknowns, "p": system.targets, "f": ca.SX(0), "g": system.equations}
+    problem = form_finding_problem(disc, params, wire_tension, target_dofs, x_design)
+    system = problem.system
     tolerance = max(EQUATION_TOLERANCE, round_off_force(params, x_design))
-    targets = x_design[target_dofs]
+    parameters = np.append(problem.parameters, SCALED_VIOLATION / tolerance)
     iterations = restarts = 0
-    for options in (dict(IPOPT_OPTIONS), {**dict(IPOPT_OPTIONS), **dict(RESTART_OPTIONS)}):
-        solver = ca.nlpsol("form_finding", "ipopt", problem,
-                           {"print_time": False, "ipopt": {**options, "constr_viol_tol": tolerance}})
+    for options in (IPOPT_OPTIONS, (*IPOPT_OPTIONS, *RESTART_OPTIONS)):
+        solver = _solver(problem.topology, system.layout, options)
         with interrupts_kept():
-            result = solver(x0=system.start, p=targets, lbg=0, ubg=0)
+            result = solver(x0=problem.start, p=parameters, lbg=0, ubg=0)
         stats = solver.stats()
         iterations += int(stats.get("iter_count", 0))
         if stats.get("success", False):
@@ -165,7 +190,7 @@ def solve_form_finding(
             stats,
         )
     sol = np.asarray(result["x"]).ravel()
-    positions = np.asarray(ca.Function("x_of_v", [system.unknowns, system.targets], [system.coordinates])(sol, targets)).ravel()
+    positions = np.asarray(system.coordinates(sol, problem.parameters)).ravel()
     start = len(system.z_unknown) + system.n_side + 2 * system.n_arm
     return FormFindingSolution(
         positions=positions.reshape(-1, 3),
@@ -174,3 +199,22 @@ def solve_form_finding(
         iterations=iterations,
         restarts=restarts,
     )
+
+
+@functools.lru_cache(maxsize=SOLVERS_KEPT)
+def _solver(topology: FormFindingTopology, layout: tuple[tuple[str, int], ...],
+            options: tuple[tuple[str, object], ...]) -> ca.Function:
+    """IPOPT on the equations of ``topology`` (:func:`~presag_opt.static.form_finding_equations.topology_system`),
+    scaled by a last parameter (see :data:`SCALED_VIOLATION`), with ``options`` (later entries win).
+
+    Built once per topology and options and kept by the process, like the equations: a memo keyed
+    by structure and options alone (never by numbers), bounded by :data:`SOLVERS_KEPT`. The restart's
+    solver is built only when a solve needs it.
+    """
+    system = topology_system(topology, layout)
+    scale = ca.SX.sym("equation_scale")
+    problem = {"x": system.unknowns, "p": ca.vertcat(system.parameters, scale), "f": ca.SX(0),
+               "g": system.equations * scale}
+    return ca.nlpsol("form_finding", "ipopt", problem,
+                     {"print_time": False, "calc_lam_p": False,
+                      "ipopt": {**dict(options), "constr_viol_tol": SCALED_VIOLATION}})

@@ -4,6 +4,8 @@ is checked through form_find in test_form_finding.py)."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -16,11 +18,8 @@ from presag_opt.system.catenary import SpanLayout
 from presag_opt.system.loader import load_catenary
 
 
-@pytest.fixture(scope="module")
-def problem():
-    """The first pass of form-finding of three coarse spans: its inputs, from form_find's own helpers."""
-    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
-    disc = static_model(catenary, StaticSettings(element_length=1.0)).discretisation
+def _first_pass(disc):
+    """The inputs of form-finding's first IPOPT solve of ``disc``, from form_find's own helpers."""
     ax = disc.axial
     x_design = disc.design_positions.ravel()
     params = PhysicalParameters(
@@ -29,6 +28,13 @@ def problem():
         spring_reference=x_design[disc.spring_dofs], nodal_force=disc.gravity_force() + disc.termination_force,
     )
     return disc, params, form_finding._horizontal_wire_tension(disc), form_finding._target_dofs(disc), x_design
+
+
+@pytest.fixture(scope="module")
+def problem():
+    """The first pass of form-finding of three coarse spans."""
+    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0)))
+    return _first_pass(static_model(catenary, StaticSettings(element_length=1.0)).discretisation)
 
 
 def test_the_solution_holds_the_targets_and_balances_the_equations(problem):
@@ -118,3 +124,60 @@ def test_an_ignored_signal_is_not_recorded_and_sigterm_reaches_its_handler():
             signal.raise_signal(signal.SIGTERM)  # ignored: nothing raised
     finally:
         signal.signal(signal.SIGTERM, previous)
+
+
+@pytest.fixture
+def built(monkeypatch):
+    """Counts the IPOPT solvers built (``casadi.nlpsol`` calls), from empty memos."""
+    import casadi as ca
+
+    from presag_opt.static import form_finding_equations
+
+    form_finding_solver._solver.cache_clear()
+    form_finding_equations.topology_system.cache_clear()
+    calls = []
+    nlpsol = ca.nlpsol
+    monkeypatch.setattr(ca, "nlpsol", lambda *args, **kwargs: calls.append(args[0]) or nlpsol(*args, **kwargs))
+    yield calls
+    form_finding_solver._solver.cache_clear()
+    form_finding_equations.topology_system.cache_clear()
+
+
+def _other_numbers(disc, params, tension, x_design):
+    """The same section with other numbers: 10 % more wire tension, stiffer elements (a larger round-off
+    tolerance), heavier loads, the design raised 0.1 m."""
+    return (disc, dataclasses.replace(params, axial_stiffness=1.3 * params.axial_stiffness,
+                                      nodal_force=1.05 * params.nodal_force),
+            1.1 * tension, x_design + np.tile([0.0, 0.0, 0.1], disc.n_nodes))
+
+
+def test_a_second_form_finding_of_the_same_topology_reuses_its_solver(problem, built):
+    """Only the numbers differ: no solver is built for the second problem, and its answer is the one a
+    freshly built solver gives, to 1e-12 m (IPOPT carries nothing from one solve to the next: the
+    same iterations from the same start, only the memory of the solver object is reused)."""
+    disc, params, tension, targets, x_design = problem
+    first = form_finding_solver.solve_form_finding(disc, params, tension, targets, x_design)
+    other_disc, other_params, other_tension, other_design = _other_numbers(disc, params, tension, x_design)
+    reused = form_finding_solver.solve_form_finding(other_disc, other_params, other_tension, targets, other_design)
+    assert built == ["form_finding"]
+    form_finding_solver._solver.cache_clear()
+    fresh = form_finding_solver.solve_form_finding(other_disc, other_params, other_tension, targets, other_design)
+    assert len(built) == 2
+    assert np.abs(reused.positions - first.positions).max() > 1e-3  # the numbers did reach the solve
+    np.testing.assert_allclose(reused.positions, fresh.positions, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(reused.dropper_unstretched_length, fresh.dropper_unstretched_length, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(reused.spring_reference, fresh.spring_reference, rtol=0, atol=1e-12)
+    assert reused.iterations == fresh.iterations
+
+
+def test_another_topology_builds_its_own_solver(problem, built):
+    """A fourth span (other nodes and elements), or another set of targets, is another problem."""
+    disc, params, tension, targets, x_design = problem
+    form_finding_solver.solve_form_finding(disc, params, tension, targets, x_design)
+    form_finding_solver.solve_form_finding(disc, params, tension, targets[:-1], x_design)
+    assert len(built) == 2
+    catenary = load_catenary("st_9.8_ideal").with_layout(SpanLayout(span_lengths=(60.0, 60.0, 60.0, 60.0)))
+    longer = _first_pass(static_model(catenary, StaticSettings(element_length=1.0)).discretisation)
+    solution = form_finding_solver.solve_form_finding(*longer)
+    assert len(built) == 3
+    assert np.array_equal(solution.positions.ravel()[longer[3]], longer[4][longer[3]])
