@@ -265,8 +265,7 @@ def tolerance_command(args: argparse.Namespace) -> int:
     catenary = load_catenary(args.model)
     check_band_speed(args, [catenary])
     within = within_percent(args.within)
-    total = keywords["samples"] if keywords.get("dynamic") else None
-    with progress(args, total=total) as report:
+    with progress(args) as report:  # the robust study's steps, then the Monte Carlo's, each with its own count
         answer = tolerance(catenary, operating_band(args), within_percent=within, element_length=args.element_length,
                            allow_supercritical=True, announce=announcer(args), progress=report, **keywords)
     if keywords:
