@@ -51,3 +51,14 @@ def test_the_tolerance_job_refuses_bad_keywords_before_any_work(keywords, messag
     with pytest.raises(ModelError, match=message):
         tolerance(**keywords)
     assert time.monotonic() - started < 5  # no form-finding
+
+
+def test_the_height_error_is_read_in_mm_for_both_wires():
+    """A unit slip here (cm read as mm) passed every tier once (planted-fault runs): the sizes are pinned
+    in metres, and a mast height error alone makes the design wavier than error-free."""
+    answer = tolerance(dropper_error_mm=0.0, height_error_mm=2.0, samples=400, seed=1)
+    errors = answer.monte_carlo.errors
+    assert errors.contact_wire_height == pytest.approx(2e-3, rel=1e-12)
+    assert errors.messenger_height == pytest.approx(2e-3, rel=1e-12) and errors.dropper_length == 0.0
+    assert answer.to_dict()["height_error_mm"] == pytest.approx(2.0, rel=1e-12)
+    assert answer.monte_carlo.percentiles[50].value > answer.monte_carlo.nominal_worst_case
