@@ -24,9 +24,6 @@ from presag_opt.jobs.options import (
     MONTE_CARLO_SAMPLES,
 )
 
-DEFAULT_SAMPLES = {"quasi-static": MONTE_CARLO_SAMPLES, "dynamic": DYNAMIC_MONTE_CARLO_SAMPLES}
-"""Realisations by default: quasi-static (about a second), dynamic (tens of minutes on 2 cores)."""
-
 
 def add_options(p: argparse.ArgumentParser) -> None:
     """The Monte Carlo options of ``presag tolerance``."""
@@ -43,8 +40,8 @@ def add_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--distribution", choices=("normal", "uniform"), default="normal",
                    help="normal (size = σ, default) or uniform within ±size")
     g.add_argument("--samples", metavar="N", default=None,
-                   help=f"realisations (default {DEFAULT_SAMPLES['quasi-static']} quasi-static, "
-                   f"{DEFAULT_SAMPLES['dynamic']} with --dynamic)")
+                   help=f"realisations (default {MONTE_CARLO_SAMPLES} quasi-static, "
+                   f"{DYNAMIC_MONTE_CARLO_SAMPLES} with --dynamic)")
     g.add_argument("--seed", metavar="N", default="0", help="seed of the random draws (default 0)")
     g.add_argument("--presag-mm", metavar="MM", default=None,
                    help="the design's pre-sag on the reference span in mm (default the robust parabola of the band)")
@@ -106,11 +103,10 @@ def tolerance_keywords(args: argparse.Namespace) -> dict:
     if args.out is not None and not args.dynamic:
         raise ModelError("--out keeps the realisations of --dynamic (the quasi-static Monte Carlo takes seconds); "
                          "add --dynamic or drop --out")
-    kind = "dynamic" if args.dynamic else "quasi-static"
     return dict(
         dropper_error_mm=dropper,
         height_error_mm=_number(args, "height_error", "mm", 0.0, MAX_INSTALLATION_ERROR_MM, default=0.0),
-        samples=_number(args, "samples", "", 1, MAX_MONTE_CARLO_SAMPLES, integer=True, default=DEFAULT_SAMPLES[kind]),
+        samples=_number(args, "samples", "", 1, MAX_MONTE_CARLO_SAMPLES, integer=True),  # None: the job's default
         seed=_number(args, "seed", "", 0, 2**32 - 1, integer=True),
         presag_mm=_number(args, "presag_mm", "mm", 0.0, 1000.0),
         distribution=args.distribution, find_dropper_tolerance=args.find_dropper_tolerance, dynamic=args.dynamic,
