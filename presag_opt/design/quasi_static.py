@@ -67,6 +67,41 @@ def interpolate_elasticity(curves: Sequence[ElasticityCurve], force: float) -> E
     Schick, Liu, Stichel (2025), doi:10.1108/RS-05-2025-0016, section 4.1 (interpolation between the
     two curves with the closest forces).
     """
+    return interpolate_elasticities(curves, (force,))[0]
+
+
+def interpolate_elasticities(curves: Sequence[ElasticityCurve], forces: Sequence[float]) -> tuple[ElasticityCurve, ...]:
+    """:func:`interpolate_elasticity` at several forces, the curves checked once.
+
+    Parameters
+    ----------
+    curves : sequence of ElasticityCurve
+        Nonlinear curves of one span at distinct force levels, on the same positions.
+    forces : sequence of float
+        Forces to interpolate at. [N]
+
+    Returns
+    -------
+    tuple of ElasticityCurve
+        One curve per force, in the order of ``forces``.
+
+    Raises
+    ------
+    ModelError
+        As :func:`interpolate_elasticity`, for the first force outside the levels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from presag_opt.elasticity import ElasticityCurve
+    >>> x = np.array([0.0, 30.0, 60.0])
+    >>> at_100 = ElasticityCurve(span=0, span_length=60.0, force=100.0, position=x,
+    ...                          elasticity=np.array([0.3, 0.6, 0.3]) * 1e-3)
+    >>> at_150 = ElasticityCurve(span=0, span_length=60.0, force=150.0, position=x,
+    ...                          elasticity=np.array([0.4, 0.6, 0.4]) * 1e-3)
+    >>> [round(c.delta_e * 1e3, 3) for c in interpolate_elasticities([at_150, at_100], [100.0, 125.0, 150.0])]
+    [0.3, 0.25, 0.2]
+    """
     levels = sorted(curves, key=lambda c: -1.0 if c.force is None else c.force)
     if not levels or any(c.force is None for c in levels):
         raise ModelError("interpolate_elasticity needs nonlinear curves (with a force level), at least one")
@@ -74,9 +109,14 @@ def interpolate_elasticity(curves: Sequence[ElasticityCurve], force: float) -> E
     for c in levels[1:]:
         if c.span != first.span or not np.array_equal(c.position, first.position):
             raise ModelError("interpolate_elasticity: curves must belong to one span and share their positions")
-    forces = np.array([c.force for c in levels])
-    if np.any(np.diff(forces) <= 0.0):
-        raise ModelError(f"interpolate_elasticity: force levels {forces.tolist()} N are not distinct")
+    level_forces = np.array([c.force for c in levels])
+    if np.any(np.diff(level_forces) <= 0.0):
+        raise ModelError(f"interpolate_elasticity: force levels {level_forces.tolist()} N are not distinct")
+    return tuple(_interpolated(levels, level_forces, float(force)) for force in forces)
+
+
+def _interpolated(levels: list[ElasticityCurve], forces: np.ndarray, force: float) -> ElasticityCurve:
+    """The curve at ``force`` from checked ``levels`` (sorted, distinct, common positions) at ``forces``."""
     for c in levels:
         if math.isclose(force, c.force, rel_tol=1e-12, abs_tol=1e-12):
             return c
@@ -88,10 +128,11 @@ def interpolate_elasticity(curves: Sequence[ElasticityCurve], force: float) -> E
     upper = int(np.searchsorted(forces, force))
     a, b = levels[upper - 1], levels[upper]
     w = (force - a.force) / (b.force - a.force)
+    first = levels[0]
     return ElasticityCurve(
         span=first.span,
         span_length=first.span_length,
-        force=float(force),
+        force=force,
         position=first.position,
         elasticity=(1.0 - w) * a.elasticity + w * b.elasticity,
     )

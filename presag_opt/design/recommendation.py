@@ -160,7 +160,12 @@ def presag_rel_range(section: SectionElasticity, low: float, high: float, method
     levels = section.force_levels
     check_levels_cover(levels, low, high)
     mean_forces = mean_force_grid(levels[0], levels[-1], [low, high, *levels])
-    values = section.presag_rel_curve(mean_forces, method)[(mean_forces >= low) & (mean_forces <= high)]
+    return _range_over_band(mean_forces, section.presag_rel_curve(mean_forces, method), low, high)
+
+
+def _range_over_band(mean_forces: np.ndarray, presag_rel: np.ndarray, low: float, high: float) -> tuple[float, float]:
+    """Smallest and largest S_rel [-] of a curve over F_m [N] at the forces inside [low, high] [N]."""
+    values = presag_rel[(mean_forces >= low) & (mean_forces <= high)]
     return (float(values.min()), float(values.max()))
 
 
@@ -192,7 +197,7 @@ def layout_recommendation(
     if speed is None:
         speed = speed_context(section.catenary.contact_wire, band.speed_low, band.speed_high)
     mean_forces = mean_force_grid(levels[0], levels[-1], [low, high, *levels])
-    curves = {m: section.presag_rel_curve(mean_forces, m) for m in PRESAG_METHODS}
+    curves = section.presag_rel_curves(mean_forces, PRESAG_METHODS)
     at_high = section.presag(high, method)
     return LayoutRecommendation(
         section=section,
@@ -203,7 +208,7 @@ def layout_recommendation(
         presag_rel_delta_e=curves["delta-e"],
         at_band_low=section.presag(low, method),
         at_band_high=at_high,
-        presag_rel_range=presag_rel_range(section, low, high, method),
+        presag_rel_range=_range_over_band(mean_forces, curves[method], low, high),
         steady_arm_uplift=StaticSteadyArmUplift(
             mean_force=high, support_elasticity=float(at_high.support_elasticity.max())
         ),

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt.design.quasi_static import check_method, elasticity_difference, interpolate_elasticity
+from presag_opt.design.quasi_static import check_method, elasticity_difference, interpolate_elasticities
 from presag_opt.elasticity import METHODS as ELASTICITY_METHODS
 from presag_opt.elasticity import ElasticityCurve, ElasticityStudy, elasticity_study
 from presag_opt.errors import ConvergenceError, ModelError
@@ -144,7 +144,18 @@ class SectionElasticity:
         mean_force : float
             Mean contact force F_m. [N]
         """
-        return tuple(interpolate_elasticity(s.nonlinear, mean_force) for s in self.studies)
+        return self.curves_at_forces((mean_force,))[0]
+
+    def curves_at_forces(self, mean_forces: Sequence[float]) -> list[tuple[ElasticityCurve, ...]]:
+        """:meth:`curves_at` at each of ``mean_forces`` (each span's curves checked once).
+
+        Parameters
+        ----------
+        mean_forces : sequence of float
+            Mean contact forces F_m. [N]
+        """
+        per_span = [interpolate_elasticities(s.nonlinear, mean_forces) for s in self.studies]
+        return list(zip(*per_span))
 
     def presag(self, mean_force: float, method: str = "delta-e") -> SectionPresag:
         """Quasi-static pre-sag of every analysed span at ``mean_force``.
@@ -157,7 +168,9 @@ class SectionElasticity:
             Variant of the rule.
         """
         check_method(method)
-        curves = self.curves_at(mean_force)
+        return self._presag(mean_force, self.curves_at(mean_force), method)
+
+    def _presag(self, mean_force: float, curves: Sequence[ElasticityCurve], method: str) -> SectionPresag:
         return SectionPresag(
             catenary_name=self.catenary.name,
             mean_force=float(mean_force),
@@ -178,7 +191,23 @@ class SectionElasticity:
         method : {"delta-e", "mid-mast"}
             Pre-sag variant (see :meth:`SectionElasticity.presag`).
         """
-        return np.array([self.presag(f, method).presag_rel_mean for f in mean_forces])
+        return self.presag_rel_curves(mean_forces, (method,))[method]
+
+    def presag_rel_curves(self, mean_forces: Sequence[float], methods: Sequence[str]) -> dict[str, np.ndarray]:
+        """:meth:`presag_rel_curve` of several variants from one interpolation of the curves. [-]
+
+        Parameters
+        ----------
+        mean_forces : sequence of float
+            Mean contact forces F_m. [N]
+        methods : sequence of str
+            Pre-sag variants, each ``"delta-e"`` or ``"mid-mast"``.
+        """
+        for method in methods:
+            check_method(method)
+        curves = self.curves_at_forces(mean_forces)
+        return {m: np.array([self._presag(f, c, m).presag_rel_mean for f, c in zip(mean_forces, curves)])
+                for m in methods}
 
 
 def check_elasticity_method(elasticity_method: str) -> str:

@@ -16,7 +16,7 @@ import numpy as np
 from presag_opt.elasticity.curves import ElasticityCurve
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
-from presag_opt.static.linearised import TensionOnlyStructure
+from presag_opt.static.linearised import TensionOnlyStructure, dropper_axial_force, dropper_slack
 
 
 def span_positions(state: EquilibriumState, span: int, step: float) -> np.ndarray:
@@ -64,8 +64,8 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
     span = disc.catenary.layout.central_span if span is None else span
     positions = span_positions(state, span, step)
     stations = disc.mast_station[span] + positions
-    local, vertical, rows = _vertical_load_shapes(state, stations)
-    compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
+    local, rows = _vertical_load_shapes(state, stations)
+    compliance = _node_compliance(state, rows)
     elasticity = np.einsum("pi,ij,pj->p", local, compliance, local) + disc.cw_element_compliance(stations)
     return ElasticityCurve(
         span=span,
@@ -79,13 +79,11 @@ def linear_elasticity(state: EquilibriumState, span: int | None = None, step: fl
 METHODS = ("newton", "active-set")
 
 
-def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Shape functions at the stations over the contact-wire nodes involved, and unit vertical loads.
+def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shape functions at the stations over the contact-wire nodes involved, and those nodes' rows.
 
-    Returns ``local`` (stations × nodes), ``vertical`` (free DOFs × nodes): column j is a unit
-    upward force on node j, or zero where that node is held vertically (its uplift is zero), and
-    ``rows``: the free-DOF row of each node's vertical DOF, −1 where it is held (``vertical.T @ A``
-    is ``_node_rows(A, rows)``).
+    Returns ``local`` (stations × nodes) and ``rows``: the free-DOF row of each node's vertical DOF,
+    −1 where the node is held vertically (its uplift is zero).
     """
     disc = state.discretisation
     shape = disc.cw_shape(stations)
@@ -94,14 +92,20 @@ def _vertical_load_shapes(state: EquilibriumState, stations: np.ndarray) -> tupl
     dofs = 3 * disc.cw_nodes[nodes] + 2
     rows = np.minimum(np.searchsorted(free, dofs), len(free) - 1)
     movable = free[rows] == dofs
-    vertical = np.zeros((len(free), len(nodes)))
-    vertical[rows[movable], np.flatnonzero(movable)] = 1.0
-    return shape[:, nodes].toarray(), vertical, np.where(movable, rows, -1)
+    return shape[:, nodes].toarray(), np.where(movable, rows, -1)
+
+
+def _node_compliance(state: EquilibriumState, rows: np.ndarray) -> np.ndarray:
+    """Vertical compliance between the nodes: K⁻¹ at their vertical DOFs ``rows``, zero in the row
+    and column of a held node (−1). [m/N]"""
+    movable = rows >= 0
+    out = np.zeros((len(rows), len(rows)))
+    out[np.ix_(movable, movable)] = state.factorised_stiffness().inverse_block(rows[movable])
+    return out
 
 
 def _node_rows(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """``vertical.T @ matrix`` by row selection: the rows of the nodes' vertical DOFs, zero where held
-    (a dense product with the 0/1 matrix costs a second per span of a long section)."""
+    """The rows of ``matrix`` at the nodes' vertical DOFs ``rows``, zero for a held node (−1)."""
     out = np.zeros((len(rows), matrix.shape[1]))
     out[rows >= 0] = matrix[rows[rows >= 0]]
     return out
@@ -184,10 +188,17 @@ def _active_set_uplift(state: EquilibriumState, stations: np.ndarray, force: flo
     structure = TensionOnlyStructure.of(state)
     load_compliance, load_influence = _load_terms(structure, stations)
     f0 = structure.preload
+    # stations where every dropper stays taut: the test slack_set makes first from an empty slack set,
+    # made for all stations at once (with a taut start and no slack dropper the answer is z = 0)
+    taut = ~dropper_slack(dropper_axial_force(f0, structure.stiffness, force * load_influence, 0.0, 0.0)).any(axis=1)
     uplift = np.empty(len(stations))
     slack_count = np.empty(len(stations), dtype=int)
     slack = np.zeros(len(f0), dtype=bool)
     for i, (c_pp, v_p) in enumerate(zip(load_compliance, load_influence)):
+        if taut[i] and not slack.any():
+            uplift[i] = force * c_pp
+            slack_count[i] = 0
+            continue
         slack, z = structure.slack_set(force * v_p, slack)
         s = np.flatnonzero(slack)
         uplift[i] = force * c_pp + v_p[s] @ f0[s] + v_p[s] @ z
@@ -202,8 +213,8 @@ def _load_terms(structure: TensionOnlyStructure, stations: np.ndarray) -> tuple[
     cache = state.memo.unit_load_terms
     key = np.asarray(stations, dtype=float).tobytes()
     if key not in cache:
-        local, vertical, rows = _vertical_load_shapes(state, stations)
-        compliance = _node_rows(state.factorised_stiffness().solve(vertical), rows)
+        local, rows = _vertical_load_shapes(state, stations)
+        compliance = _node_compliance(state, rows)
         cache[key] = (
             np.einsum("pi,ij,pj->p", local, compliance, local),
             local @ _node_rows(structure.influence, rows),

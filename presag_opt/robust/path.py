@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from presag_opt.design.quasi_static import interpolate_elasticity
+from presag_opt.design.quasi_static import interpolate_elasticities
 from presag_opt.design.section import SectionElasticity
 from presag_opt.errors import ModelError
 from presag_opt.static.equilibrium import EquilibriumState
@@ -181,8 +181,7 @@ class PathModel:
         out = np.empty((len(forces), len(self.node_span)))
         for study in self.section.studies:
             sel = self.node_span == study.span
-            for k, force in enumerate(forces):
-                curve = interpolate_elasticity(study.nonlinear, float(force))
+            for k, (force, curve) in enumerate(zip(forces, interpolate_elasticities(study.nonlinear, forces))):
                 out[k, sel] = force * curve.at(self.node_position[sel])
         return out
 

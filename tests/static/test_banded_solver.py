@@ -67,3 +67,34 @@ def test_an_indefinite_matrix_goes_to_superlu(state):
     assert not factor.positive_definite
     rhs = np.ones(matrix.shape[0])
     assert _backward_error(indefinite, factor.solve(rhs), rhs) <= 1e-12
+
+
+@pytest.mark.parametrize("backend", ["lapack", "compiled", "numba"])
+def test_an_inverse_block_equals_the_full_solves_rows(state, backend):
+    """K⁻¹[rows, rows] from the trailing factor equals the rows of the full solve: the same
+    substitutions, the skipped rows only ever contributing zeros (to the last bit on this machine;
+    compared to 1e-14 of the block's largest entry so another BLAS cannot fail it)."""
+    factor = state.factorised_stiffness()
+    n = state.tangent_stiffness().shape[0]
+    rows = np.random.default_rng(2).choice(np.arange(n // 3, n), size=25, replace=False)
+    unit = np.zeros((n, len(rows)))
+    unit[rows, np.arange(len(rows))] = 1.0
+    full = factor.solve(unit, backend)[rows]
+    block = factor.inverse_block(rows, backend)
+    assert np.abs(block - full).max() <= 1e-14 * np.abs(full).max()
+    assert np.allclose(block, block.T, rtol=1e-10, atol=0.0)  # K⁻¹ is symmetric
+    skipped = int(factor.solver.position[rows].min())
+    assert skipped > 0  # the rows drawn from the last two thirds leave leading rows unsolved
+
+
+def test_an_inverse_block_of_an_indefinite_matrix_comes_from_superlu(state):
+    solver = state.model.functions.solver
+    values = state.model.functions.hessian_values(state.positions.ravel(), state.params)[0].copy()
+    matrix = solver.matrix(values)
+    shift = sp.diags(np.where(np.arange(matrix.shape[0]) == 5, -2 * matrix.diagonal().max(), 0.0)).tocsc()
+    indefinite = (matrix + shift).tocsc()
+    indefinite.sort_indices()
+    factor = BandedSolver.for_pattern(indefinite).factorise(indefinite.data)
+    rows = np.array([7, 3, 40])
+    dense = np.linalg.inv(indefinite.toarray())[np.ix_(rows, rows)]
+    assert np.allclose(factor.inverse_block(rows), dense, rtol=1e-9, atol=0.0)
