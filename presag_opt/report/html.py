@@ -61,10 +61,8 @@ def _figures(report: DesignReport, tmp: Path) -> dict[str, str]:
     for i, lay in enumerate(rec.layouts):
         study = lay.section.studies[len(lay.section.studies) // 2]
         paths[f"fig-elasticity-{i}"] = plot_elasticity(study, tmp / f"elasticity_{i}.png")
-    validity = save_validity_plots(report.answer.validity.dataset, report.answer.validity.result, tmp / "validity")
-    by_name = {p.name: p for p in validity}
-    paths["fig-validity"] = by_name["fig7_presag.png"]
-    paths["fig-uplift"] = by_name["uplift.png"]
+    paths["fig-validity"], paths["fig-uplift"] = save_validity_plots(
+        report.answer.validity.dataset, report.answer.validity.result, tmp / "validity", figures=("fig7_presag", "uplift"))
     return {key: "data:image/png;base64," + base64.b64encode(p.read_bytes()).decode("ascii") for key, p in paths.items()}
 
 

@@ -22,8 +22,14 @@ MM = 1e3
 """Metres to millimetres, for axes. [mm/m]"""
 
 
+VALIDITY_FIGURES = ("fig6_ratio", "fig7_presag", "fig8_optimal_force", "uplift")
+"""The figures of a validity study, by file name without ``.png``: σ/F_m against F_m per pre-sag
+(Fig. 6), the pre-sag against β (Fig. 7), the optimal F_m against β (Fig. 8), the steady-arm uplift."""
+
+
 def save_validity_plots(dataset: xr.Dataset, result: ValidityResult, folder: str | Path,
-                        selection: dict[str, float] | None = None) -> list[Path]:
+                        selection: dict[str, float] | None = None,
+                        figures: tuple[str, ...] = VALIDITY_FIGURES) -> list[Path]:
     """Save fig6_ratio.png, fig7_presag.png, fig8_optimal_force.png and uplift.png into ``folder``.
 
     Parameters
@@ -36,24 +42,30 @@ def save_validity_plots(dataset: xr.Dataset, result: ValidityResult, folder: str
         Output folder (created if missing).
     selection : dict, optional
         Values of the extra swept parameters, as given to the analysis. [SI]
+    figures : tuple of str
+        Which of :data:`VALIDITY_FIGURES` to draw (default all), in this order.
 
     Returns
     -------
     list of pathlib.Path
         The files written.
     """
+    unknown = [name for name in figures if name not in VALIDITY_FIGURES]
+    if unknown:
+        raise ModelError(f"figures = {unknown} are not validity figures ({', '.join(VALIDITY_FIGURES)})")
     out = Path(folder)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ModelError(f"--plot {folder}: cannot create the folder ({exc.strerror})") from None
     ds = dataset.sel(selection or {}, method="nearest").transpose("presag", "speed", "static_force")
-    return [
-        _fig6(ds, result, out / "fig6_ratio.png"),
-        _fig7(result, out / "fig7_presag.png"),
-        _fig8(result, out / "fig8_optimal_force.png"),
-        _uplift(ds, out / "uplift.png"),
-    ]
+    draw = {
+        "fig6_ratio": lambda path: _fig6(ds, result, path),
+        "fig7_presag": lambda path: _fig7(result, path),
+        "fig8_optimal_force": lambda path: _fig8(result, path),
+        "uplift": lambda path: _uplift(ds, path),
+    }
+    return [draw[name](out / f"{name}.png") for name in figures]
 
 
 def _grid(count: int) -> tuple[matplotlib.figure.Figure, np.ndarray]:

@@ -43,6 +43,14 @@ def test_the_four_figures_are_written_by_name(study, tmp_path):
     assert all(p.read_bytes()[:4] == b"\x89PNG" for p in paths)
 
 
+def test_a_chosen_few_are_drawn_in_the_order_given_and_an_unknown_name_is_refused(study, tmp_path, drawn):
+    paths = plots.save_validity_plots(*study, tmp_path, figures=("uplift", "fig7_presag"))
+    assert [p.name for p in paths] == ["uplift.png", "fig7_presag.png"]
+    assert len(drawn) == 2 and drawn[0].axes[0].get_ylabel() == "max steady-arm uplift over F_stat [mm]"
+    with pytest.raises(ModelError, match=r"^figures = \['fig9'\] are not validity figures"):
+        plots.save_validity_plots(*study, tmp_path, figures=("fig9",))
+
+
 def test_a_folder_that_cannot_be_made_is_one_line(study, tmp_path):
     (tmp_path / "file").write_text("x")
     with pytest.raises(ModelError, match=r"^--plot .*file/plots: cannot create the folder \(Not a directory\)$"):
