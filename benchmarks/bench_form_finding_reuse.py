@@ -104,11 +104,11 @@ def _numbers(value: object, path: str = "") -> dict[str, float]:
 
 
 def largest_difference(this: object, base: object) -> str:
-    """The largest difference between two answers: of the arrays of two npz files [m], or of the numbers
+    """The largest difference between two answers: of the arrays of two npz files, or of the numbers
     of two JSON values (absolute, and where it is)."""
     if isinstance(this, np.lib.npyio.NpzFile):
         worst = max((float(np.abs(this[k] - base[k]).max()), k) for k in this.files if this[k].size)
-        return f"largest difference of the form-found states {worst[0]:.2e} m ({worst[1]})"
+        return f"largest difference of the saved arrays {worst[0]:.2e} in their unit ({worst[1]})"
     a, b = _numbers(this), _numbers(base)
     if a.keys() != b.keys():
         return f"the answers differ in their fields: {sorted(a.keys() ^ b.keys())[:5]}"
