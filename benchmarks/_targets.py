@@ -4,6 +4,7 @@ benchmark with a non-zero exit status and a ``NOT MET`` line when a target is mi
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import time
 from collections.abc import Callable
@@ -68,3 +69,49 @@ def side_by_side(parser: argparse.ArgumentParser, root: Path, repeat: int,
     parser.add_argument("--repeat", type=int, default=repeat, help=repeat_help)
     args = parser.parse_args()
     return args, {"this": root, "base": args.base.resolve()}
+
+
+def time_side_by_side(title: str, run: Callable[[Path, Path], tuple[float, Any]], trees: dict[str, Path],
+                      repeat: int, target: Callable[[str, int], Path], compare: Callable[[Any, Any], str],
+                      warm_up: bool = False) -> dict[str, float]:
+    """Time one part on this tree and the base tree, alternating, and print every run, the medians, the
+    ratio this / base, ``compare(answer this, answer base)`` and the load average before and after.
+
+    Parameters
+    ----------
+    title : str
+        What the part runs.
+    run : callable
+        ``run(tree, target) -> (wall time [s], answer)``.
+    trees : dict
+        ``{"this": Path, "base": Path}`` (:func:`side_by_side`).
+    repeat : int
+        Counted rounds. [-]
+    target : callable
+        ``target(tree name, round) -> Path`` where a run writes its output.
+    compare : callable
+        Describes the difference of two answers in one line.
+    warm_up : bool
+        Run one more round first, not counted (fills caches).
+
+    Returns
+    -------
+    dict
+        The median wall time per tree. [s]
+    """
+    print(f"{title}: load average before {os.getloadavg()}", flush=True)
+    times: dict[str, list[float]] = {name: [] for name in trees}
+    answers: dict[str, Any] = {}
+    for round_ in range(repeat + int(warm_up)):
+        counted = round_ >= int(warm_up)
+        for name, tree in trees.items():
+            wall, answers[name] = run(tree, target(name, round_))
+            if counted:
+                times[name].append(wall)
+            print(f"  {name}: {wall:7.2f} s{'' if counted else ' (warm-up, not counted)'}", flush=True)
+    medians = {name: statistics.median(t) for name, t in times.items()}
+    print(f"  medians: this {medians['this']:.2f} s, base {medians['base']:.2f} s; "
+          f"this / base {medians['this'] / medians['base']:.3f}")
+    print(f"  {compare(answers['this'], answers['base'])}")
+    print(f"  load average after {os.getloadavg()}", flush=True)
+    return medians

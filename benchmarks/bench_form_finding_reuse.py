@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -41,7 +40,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from _targets import side_by_side  # noqa: E402 - the benchmarks folder is not a package
+from _targets import side_by_side, time_side_by_side  # noqa: E402 - the benchmarks folder is not a package
 from bench_line_design import write_survey  # noqa: E402
 
 TENSIONS = """
@@ -133,20 +132,10 @@ def main() -> int:
         }
         for part in args.only or list(parts):
             title, run = parts[part]
-            print(f"{title}: load average before {os.getloadavg()}", flush=True)
-            times: dict[str, list[float]] = {name: [] for name in trees}
-            answers = {}
-            for round_ in range(args.repeat):
-                for name, tree in trees.items():
-                    wall, answers[name] = run(tree, Path(folder) / f"{part}_{name}_{round_}.npz"
-                                              if part == "tensions" else Path(folder) / f"{part}_{name}_{round_}")
-                    times[name].append(wall)
-                    print(f"  {name}: {wall:6.1f} s", flush=True)
-            medians = {name: statistics.median(t) for name, t in times.items()}
-            print(f"  medians: this {medians['this']:.1f} s, base {medians['base']:.1f} s; "
-                  f"this / base {medians['this'] / medians['base']:.3f}")
-            print(f"  {largest_difference(answers['this'], answers['base'])}")
-            print(f"  load average after {os.getloadavg()}", flush=True)
+            time_side_by_side(title, run, trees, args.repeat,
+                              lambda name, round_, part=part: Path(folder) / (f"{part}_{name}_{round_}.npz"
+                                                                              if part == "tensions" else f"{part}_{name}_{round_}"),
+                              largest_difference)
     return 0
 
 

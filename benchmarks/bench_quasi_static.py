@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -38,7 +37,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from _targets import side_by_side  # noqa: E402 - the benchmarks folder is not a package
+from _targets import side_by_side, time_side_by_side  # noqa: E402 - the benchmarks folder is not a package
 from bench_form_finding_reuse import largest_difference  # noqa: E402
 
 CURVES = """
@@ -103,21 +102,10 @@ def main() -> int:
     with tempfile.TemporaryDirectory(prefix="bench_quasi_static_") as folder:
         for part in args.only or list(parts):
             title, run = parts[part]
-            print(f"{title}: load average before {os.getloadavg()}", flush=True)
-            times: dict[str, list[float]] = {name: [] for name in trees}
-            answers = {}
-            for round_ in range(args.repeat + 1):  # round 0 warms the caches and is not counted
-                for name, tree in trees.items():
-                    target = Path(folder) / (f"{part}_{name}_{round_}.npz" if part == "curves" else f"{part}_{name}_{round_}")
-                    wall, answers[name] = run(tree, target)
-                    if round_:
-                        times[name].append(wall)
-                    print(f"  {name}: {wall:6.2f} s{'' if round_ else ' (warm-up, not counted)'}", flush=True)
-            medians = {name: statistics.median(t) for name, t in times.items()}
-            print(f"  medians: this {medians['this']:.2f} s, base {medians['base']:.2f} s; "
-                  f"this / base {medians['this'] / medians['base']:.3f}")
-            print(f"  {largest_difference(answers['this'], answers['base'])}")
-            print(f"  load average after {os.getloadavg()}", flush=True)
+            time_side_by_side(title, run, trees, args.repeat,
+                              lambda name, round_, part=part: Path(folder) / (f"{part}_{name}_{round_}.npz"
+                                                                              if part == "curves" else f"{part}_{name}_{round_}"),
+                              largest_difference, warm_up=True)
     return 0
 
 
