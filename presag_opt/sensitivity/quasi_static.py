@@ -118,9 +118,12 @@ class Reuse:
         self.layouts.clear()
         self.hits = self.misses = 0
 
+    def __getstate__(self) -> dict:
+        """Pickled empty: an evaluator sent to a worker process starts its own memo there."""
+        return {"size": self.size}
 
-REUSE = Reuse()
-"""This process's :class:`Reuse` (each worker process has its own)."""
+    def __setstate__(self, state: dict) -> None:
+        self.__init__(state["size"])
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -137,6 +140,9 @@ class RecommendationEvaluator:
         Input names, in the order of a row.
     step : float
         Point spacing of the elasticity curves. [m]
+    reuse : Reuse
+        What this evaluator keeps between consecutive rows (its own; a copy sent to a worker process
+        starts empty there).
     """
 
     ideal: Catenary
@@ -144,6 +150,7 @@ class RecommendationEvaluator:
     names: tuple[str, ...]
     band: OperatingBand = CASE_STUDY_BAND
     step: float = 0.5
+    reuse: Reuse = dataclasses.field(default_factory=Reuse, compare=False, repr=False)
 
     def __call__(self, row: np.ndarray) -> np.ndarray:
         """S_rel ideal, mixed, recommended [‰] and mixed/ideal [-] (see :data:`RECOMMENDATION_VALUES`)."""
@@ -154,7 +161,7 @@ class RecommendationEvaluator:
         ends = []
         for catenary, span_list in ((self.ideal, False), (self.mixed, True)):
             cat = _catenary_with(catenary, self.names, row, span_list=span_list)
-            lay = REUSE.layout(cat, band, tuple(levels), self.step)
+            lay = self.reuse.layout(cat, band, tuple(levels), self.step)
             ends += list(lay.presag_rel_range)
             means.append(float(np.mean(lay.presag_rel_range)))
         return np.array([means[0] * 1e3, means[1] * 1e3, float(np.mean(ends)) * 1e3, means[1] / means[0]])
