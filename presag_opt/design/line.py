@@ -334,10 +334,9 @@ def _build_section(catenary: Catenary, section: SurveySection, sizing: SectionSi
     ids = [m.mast for m in section.masts]
     centre = 0.5 * sum(band.mean_force_band())
     top = band.mean_force_band()[1]
-    curves = dict(zip(as_built.spans, as_built.curves_at(centre)))
     # the static uplift is that of the top of the band: F_m,top times the (secant) elasticity at F_m,top,
     # the decision's estimate, here at each steady arm of the line as built
-    at_top = dict(zip(as_built.spans, as_built.curves_at(top)))
+    curves, at_top = (dict(zip(as_built.spans, c)) for c in as_built.curves_at_forces((centre, top)))
     arm = state.steady_arm_forces()
     inner = _sized_spans(catenary)
     own = sizing.span_presags

@@ -196,10 +196,9 @@ def _active_set_uplift(state: EquilibriumState, stations: np.ndarray, force: flo
     slack = np.zeros(len(f0), dtype=bool)
     for i, (c_pp, v_p) in enumerate(zip(load_compliance, load_influence)):
         if taut[i] and not slack.any():
-            uplift[i] = force * c_pp
-            slack_count[i] = 0
-            continue
-        slack, z = structure.slack_set(force * v_p, slack)
+            z = np.zeros(0)  # what slack_set returns at once from an empty set here
+        else:
+            slack, z = structure.slack_set(force * v_p, slack)
         s = np.flatnonzero(slack)
         uplift[i] = force * c_pp + v_p[s] @ f0[s] + v_p[s] @ z
         slack_count[i] = int(slack.sum())
