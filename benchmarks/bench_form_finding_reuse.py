@@ -67,8 +67,9 @@ print(seconds)
 """The ``tensions`` part, run in each tree's interpreter: prints its wall time [s], saves the states."""
 
 
-def _environment(tree: Path) -> dict[str, str]:
-    return {**os.environ, "PYTHONPATH": str(tree), "PRESAG_NO_CACHE": "1"}
+def _environment(tree: Path, cache: bool = False) -> dict[str, str]:
+    env = {**os.environ, "PYTHONPATH": str(tree)}
+    return env if cache else {**env, "PRESAG_NO_CACHE": "1"}
 
 
 def _tensions(tree: Path, out: Path) -> tuple[float, object]:
@@ -78,14 +79,14 @@ def _tensions(tree: Path, out: Path) -> tuple[float, object]:
     return float(done.stdout.split()[-1]), np.load(out)
 
 
-def _command(arguments: list[str]):
-    """A part that runs ``presag ARGUMENTS --json --no-cache``: wall time [s] (interpreter start
-    included) and the JSON answer."""
+def command_part(arguments: list[str], *, with_out: bool = False, cache: bool = False):
+    """A part that runs ``presag ARGUMENTS --json`` (with ``--no-cache`` unless ``cache``, with ``--out``
+    the run's own folder if ``with_out``): wall time [s] (interpreter start included) and the JSON answer."""
     def run(tree: Path, out: Path) -> tuple[float, object]:
         started = time.perf_counter()
-        done = subprocess.run([sys.executable, "-m", "presag_opt.cli", *arguments, "--json", "--no-cache",
-                               *(["--out", str(out)] if arguments[0] == "design" else [])],
-                              env=_environment(tree), cwd=tree, check=True, capture_output=True, text=True)
+        done = subprocess.run([sys.executable, "-m", "presag_opt.cli", *arguments, "--json",
+                               *([] if cache else ["--no-cache"]), *(["--out", str(out)] if with_out else [])],
+                              env=_environment(tree, cache), cwd=tree, check=True, capture_output=True, text=True)
         return time.perf_counter() - started, json.loads(done.stdout)
     return run
 
@@ -125,10 +126,10 @@ def main() -> int:
         parts = {
             "tensions": ("10 form-findings of st_9.8_ideal, other tensions", _tensions),
             "morris": (f"presag sensitivity: Morris of the recommendation, r = {args.trajectories}",
-                       _command(["sensitivity", "--quantity", "recommendation", "--method", "morris",
-                                 "--samples", str(args.trajectories), "--workers", "2"])),
-            "design": ("presag design, 5 km line", _command(["design", str(survey), "--system", "st_9.8_mixed",
-                                                             "--xlsx", "--workers", "2"])),
+                       command_part(["sensitivity", "--quantity", "recommendation", "--method", "morris",
+                                     "--samples", str(args.trajectories), "--workers", "2"])),
+            "design": ("presag design, 5 km line", command_part(["design", str(survey), "--system", "st_9.8_mixed",
+                                                                 "--xlsx", "--workers", "2"], with_out=True)),
         }
         for part in args.only or list(parts):
             title, run = parts[part]

@@ -29,7 +29,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -38,7 +37,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from _targets import side_by_side, time_side_by_side  # noqa: E402 - the benchmarks folder is not a package
-from bench_form_finding_reuse import largest_difference  # noqa: E402
+from bench_form_finding_reuse import command_part, largest_difference  # noqa: E402
 
 CURVES = """
 import sys, time, warnings
@@ -76,28 +75,14 @@ def _curves(tree: Path, out: Path) -> tuple[float, object]:
     return float(done.stdout.split()[-1]), np.load(out)
 
 
-def _command(arguments: list[str], with_out: bool = False):
-    """A part that runs ``presag ARGUMENTS --json``: wall time [s] and the JSON answer."""
-    import json
-
-    def run(tree: Path, out: Path) -> tuple[float, object]:
-        started = time.perf_counter()
-        done = subprocess.run([sys.executable, "-m", "presag_opt.cli", *arguments, "--json",
-                               *(["--out", str(out)] if with_out else [])],
-                              env={**os.environ, "PYTHONPATH": str(tree)}, cwd=tree, check=True,
-                              capture_output=True, text=True)
-        return time.perf_counter() - started, json.loads(done.stdout)
-    return run
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", choices=("curves", "recommend", "report"), action="append", help="run only this part")
     args, trees = side_by_side(parser, ROOT, 3, "timed runs per tree and part")
     parts = {
         "curves": ("elasticity and layout recommendation of st_9.8_ideal and st_9.8_mixed", _curves),
-        "recommend": ("presag recommend", _command(["recommend"])),
-        "report": ("presag report", _command(["report"], with_out=True)),
+        "recommend": ("presag recommend", command_part(["recommend"], cache=True)),
+        "report": ("presag report", command_part(["report"], with_out=True, cache=True)),
     }
     with tempfile.TemporaryDirectory(prefix="bench_quasi_static_") as folder:
         for part in args.only or list(parts):
