@@ -4,7 +4,10 @@
 the grid needs, :func:`~presag_opt.robust.operating_grid.band_static_settings`) and runs all points
 of the grid in one :func:`~presag_opt.dynamics.batch.simulate_many` call. :class:`BandEvaluator`
 keeps every pre-sag it simulated and counts the runs; several pre-sags asked for at once run side
-by side in worker processes. A :class:`BandEvaluation` holds the EN 50367 statistics of every point and the
+by side in worker processes, and a pre-sag asked for alone (the search's steps) has its static
+forces dealt out over the workers (:func:`split_grid`, joined back by :func:`join_parts`): a run's
+numbers do not depend on the other runs of its batch, so the answer is the same to the last bit, and
+the second core no longer waits while the first simulates. A :class:`BandEvaluation` holds the EN 50367 statistics of every point and the
 filtered contact force inside each run's analysis window, from which the surrogate of
 :mod:`presag_opt.robust.surrogate` interpolates other pre-sags. A run that fails stops the search
 with its reason: a design is never chosen around a missing run.
@@ -12,9 +15,10 @@ with its reason: a design is never chosen around a missing run.
 
 from __future__ import annotations
 
+import contextlib
 import time as wallclock
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -178,6 +182,62 @@ def simulate_band(
     )
 
 
+def split_grid(grid: OperatingGrid, parts: int) -> tuple[OperatingGrid, ...]:
+    """A grid's static forces dealt out over ``parts`` grids (every speed in each): the first, the
+    (parts + 1)-th, … force to the first grid, and so on, so that the parts carry the same share of
+    the band's forces and the same steps. As many parts as there are forces at most.
+
+    Parameters
+    ----------
+    grid : OperatingGrid
+        The grid.
+    parts : int
+        Grids wanted, at least 1. [-]
+    """
+    count = max(1, min(int(parts), len(grid.static_forces)))
+    return tuple(replace(grid, static_forces=grid.static_forces[k::count]) for k in range(count))
+
+
+def join_parts(grid: OperatingGrid, parts: tuple[OperatingGrid, ...], evaluations: list[BandEvaluation]
+               ) -> BandEvaluation:
+    """One pre-sag's evaluation over ``grid`` from its evaluations over the parts of :func:`split_grid`,
+    in the grid's order of points (speed by speed, then static force; the pantographs of a run together).
+
+    Parameters
+    ----------
+    grid : OperatingGrid
+        The whole grid.
+    parts : tuple of OperatingGrid
+        Its parts, as evaluated.
+    evaluations : list of BandEvaluation
+        One per part, of the same pre-sag.
+    """
+    per_run = len(evaluations[0].statistics.sigma) // len(parts[0].points())  # pantographs of a run
+    where = {}
+    for k, part in enumerate(parts):
+        for i, point in enumerate(part.points()):
+            where[point.speed, point.static_force] = (k, i)
+    order = [(k, i * per_run + p) for point in grid.points()
+             for k, i in [where[point.speed, point.static_force]] for p in range(per_run)]
+
+    def gathered(values: list[np.ndarray]) -> np.ndarray:
+        return np.array([values[k][j] for k, j in order])
+
+    statistics = [e.statistics for e in evaluations]
+    return BandEvaluation(
+        statistics=BandStatistics(
+            presag_rel=statistics[0].presag_rel,
+            mean_force=gathered([s.mean_force for s in statistics]),
+            sigma=gathered([s.sigma for s in statistics]),
+            uplift_max=gathered([s.uplift_max for s in statistics]),
+        ),
+        histories=tuple(evaluations[k].histories[j] for k, j in order),
+        loss_of_contact=gathered([e.loss_of_contact for e in evaluations]),
+        wall_time=max(e.wall_time for e in evaluations),
+        warnings=tuple(dict.fromkeys(w for e in evaluations for w in e.warnings)),
+    )
+
+
 class BandEvaluator:
     """Simulates parabolic pre-sags over an operating grid, each pre-sag once.
 
@@ -193,7 +253,8 @@ class BandEvaluator:
         Numerical settings; default automatic numerics (element length and time step from the speed).
     workers : int
         Processes that simulate pre-sags side by side when several are asked for at once
-        (:meth:`evaluate_many`); 1 simulates in this process. [-]
+        (:meth:`evaluate_many`), or the parts of one pre-sag's grid when fewer pre-sags than workers
+        are asked for; 1 simulates in this process. [-]
     progress : callable, optional
         Called with a short message before each form-finding and after each batch of runs.
     spacings : tuple of float, optional
@@ -206,6 +267,11 @@ class BandEvaluator:
         S_rel -> :class:`BandEvaluation`, in the order simulated.
     runs_used : int
         Simulation runs so far. [-]
+
+    Used as a context manager (``with BandEvaluator(...) as evaluator:``), it keeps its worker
+    processes from the first pre-sag it simulates with them to the end of the block, instead of
+    starting them for every call (about a second each, importing and loading the compiled kernel);
+    the workers are stopped with the block, also when it is interrupted.
     """
 
     def __init__(
@@ -232,6 +298,16 @@ class BandEvaluator:
         self.spacings = tuple(spacings) if spacings else None
         self.evaluations: dict[float, BandEvaluation] = {}
         self.runs_used = 0
+        self._held: contextlib.ExitStack | None = None
+        self._pool = None
+
+    def __enter__(self) -> BandEvaluator:
+        self._held = contextlib.ExitStack()
+        return self
+
+    def __exit__(self, *exc) -> bool:
+        held, self._held, self._pool = self._held, None, None
+        return bool(held is not None and held.__exit__(*exc))
 
     @property
     def reference_span(self) -> float:
@@ -265,21 +341,43 @@ class BandEvaluator:
         """
         presags = [float(s) for s in presags]
         new = [s for s in dict.fromkeys(presags) if s not in self.evaluations]
-        common = (self.catenary, self.pantograph, self.grid, self.settings, self.static_settings)
-        if self.workers > 1 and len(new) > 1:
-            span = self.reference_span
-            count = min(self.workers, len(new))
-            if self.progress:
-                self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in {count} processes")
-            with worker_pool(count, WorkerPolicy.PICKLED) as pool:
-                futures = [pool.submit(simulate_band, *common, s, None, self.spacings) for s in new]
-                results = [f.result() for f in futures]
-            for s, evaluation in zip(new, results):
-                self._keep(s, evaluation)
-        else:
+        if self.workers == 1 or not new or (len(new) == 1 and len(self.grid.static_forces) == 1):
             for s in new:
-                self._keep(s, simulate_band(*common, s, progress=self.progress, spacings=self.spacings))
+                self._keep(s, simulate_band(*self._common, s, progress=self.progress, spacings=self.spacings))
+            return [self.evaluations[s] for s in presags]
+        parts = split_grid(self.grid, self.workers // len(new)) if len(new) < self.workers else (self.grid,)
+        tasks = [(s, part) for s in new for part in parts]
+        span = self.reference_span
+        if self.progress:
+            split = "" if len(parts) == 1 else f", each pre-sag's {len(self.grid.points())} runs in {len(parts)} parts"
+            self.progress(f"S = {', '.join(f'{s * span * 1e3:.1f}' for s in new)} mm in "
+                          f"{min(self.workers, len(tasks))} processes{split}")
+        results = self._run_side_by_side(tasks)
+        for k, s in enumerate(new):
+            done = results[k * len(parts): (k + 1) * len(parts)]
+            self._keep(s, done[0] if len(parts) == 1 else join_parts(self.grid, parts, done))
         return [self.evaluations[s] for s in presags]
+
+    @property
+    def _common(self) -> tuple:
+        return self.catenary, self.pantograph, self.grid, self.settings, self.static_settings
+
+    def _run_side_by_side(self, tasks: list[tuple[float, OperatingGrid]]) -> list[BandEvaluation]:
+        """Each (pre-sag, grid) task in a worker process: the evaluator's own workers inside its
+        ``with`` block, else a pool for this call."""
+        catenary, pantograph, _, settings, static_settings = self._common
+
+        def submitted(pool) -> list[BandEvaluation]:
+            futures = [pool.submit(simulate_band, catenary, pantograph, grid, settings, static_settings, s, None,
+                                   self.spacings) for s, grid in tasks]
+            return [f.result() for f in futures]
+
+        if self._held is None:
+            with worker_pool(min(self.workers, len(tasks)), WorkerPolicy.PICKLED) as pool:
+                return submitted(pool)
+        if self._pool is None:
+            self._pool = self._held.enter_context(worker_pool(self.workers, WorkerPolicy.PICKLED))
+        return submitted(self._pool)
 
     def _keep(self, presag_rel: float, evaluation: BandEvaluation) -> None:
         self.evaluations[presag_rel] = evaluation

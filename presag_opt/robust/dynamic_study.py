@@ -277,7 +277,8 @@ def dynamic_robust_study(
     search : SearchSettings, optional
         Range and resolution of the search.
     workers : int
-        Processes that simulate pre-sags side by side (the two starts, the two tolerance ends). [-]
+        Processes that simulate pre-sags side by side (the two starts, the two tolerance ends), or
+        the parts of one pre-sag's grid (the search's single steps); started once for the study. [-]
     quasi : RobustStudy, optional
         The quasi-static study of the band's F_m band, where already computed (a decision computes
         it once, over the band as given); default: computed here over the simulated grid's F_m band.
@@ -304,8 +305,9 @@ def dynamic_robust_study(
         started -= quasi.wall_time  # the whole study's time includes the quasi-static one, computed before
     quasi_cost = quasi.wall_time
     starts = (quasi.robust_parabola.presag_rel, quasi.nominal.presag_rel)
-    design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
-    tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
+    with evaluator:  # one set of worker processes for the search and the tolerance
+        design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
+        tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
     weights = grid.weights
     methods = []
     for name, presag_rel, cost in ((DELTA_E, starts[1], quasi_cost), (QUASI_STATIC, starts[0], quasi_cost),
