@@ -97,7 +97,7 @@ def _helpers(pid: int) -> list[int]:
     return found
 
 
-FIRST_SIMULATE = ["simulate", "--case", "case_study_st98", "--speed", "80", "--static-force", "100"]
+FIRST_SIMULATE = ["simulate", "--case", "case_study_st98", "--speed", "80", "--static-force", "100,120"]
 
 
 @pytest.mark.e2e
