@@ -15,9 +15,8 @@ Compiling the kernel takes about 20 s of one core (:func:`kernel_part` says why 
 point for the types of a call before the call, one process at a time: a process that finds another
 compiling (the workers of a pool started together, two commands, the workers of a test run) waits
 for it and then loads its cache instead of compiling the same code again on a core that has other
-work. :func:`compiling_elsewhere` compiles one kernel function in a helper process, under that same
-lock, while the calling process compiles others: the kernel's first compilation on two cores
-(:mod:`presag_opt.dynamics.batch.compilation`).
+work. The lock is one per kernel function, so that two processes can compile two of them at once
+(the kernel's first compilation on two cores, :mod:`presag_opt.dynamics.batch.compilation`).
 
 Only the functions compiled by :func:`kernel_function` use the locator: each gets a cache of its own
 class (:class:`KernelCache`, numba's function cache with :class:`DependencyLocator` as its one locator)
@@ -31,9 +30,6 @@ import contextlib
 import functools
 import hashlib
 import os
-import pickle
-import subprocess
-import sys
 import types
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -164,7 +160,7 @@ def compile_once(dispatcher: Dispatcher, *args: object) -> None:
         dispatcher.compile(types_)
 
 
-def _lock_file(dispatcher: Dispatcher) -> IO[str] | None:
+def lock_file(dispatcher: Dispatcher) -> IO[str] | None:
     """The kernel function's lock file in its cache folder, open (one per function, so that two
     processes can compile two functions at once); None where file locks or the folder are not
     available: each process then compiles on its own, as numba alone would."""
@@ -181,8 +177,8 @@ def _lock_file(dispatcher: Dispatcher) -> IO[str] | None:
 
 @contextlib.contextmanager
 def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
-    """An exclusive lock on the kernel function's lock file (:func:`_lock_file`; none without one)."""
-    handle = _lock_file(dispatcher)
+    """An exclusive lock on the kernel function's lock file (:func:`lock_file`; none without one)."""
+    handle = lock_file(dispatcher)
     if handle is None:
         yield
         return
@@ -191,95 +187,6 @@ def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
     with handle:
         fcntl.flock(handle, fcntl.LOCK_EX)  # released when the file is closed
         yield
-
-
-@contextlib.contextmanager
-def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]:
-    """Compile a kernel function for the types of ``args`` in a helper process while the block runs.
-
-    The lock of :func:`compile_once` is taken here and handed to the helper, which holds it until it
-    has written the compiled code to the cache and exits: a :func:`compile_once` of the same function
-    and types, in this process or another, waits for it and then loads the cache. The block's value
-    says whether a helper was started: not when the function is compiled or cached already, when
-    another process is compiling it, where file locks are not available, or where the machine has one
-    core; the caller then compiles as usual.
-
-    The helper leaves interrupts to this process and ends with it (:func:`presag_opt.processes.end_with_parent`);
-    it prints nothing. Leaving the block waits for it; leaving it by an exception (Ctrl-C, SIGTERM
-    turned into an interrupt) kills it first. A killed helper leaves no lock behind (a file lock
-    ends with its holder) and at worst no cache entry, which the next :func:`compile_once` then
-    compiles.
-
-    Parameters
-    ----------
-    dispatcher : numba Dispatcher
-        A function made by :func:`kernel_function`, defined at the top level of an importable module.
-    *args
-        Arguments of the call to compile for (only their numba types matter; they must pickle).
-    """
-    helper = None
-    if (os.cpu_count() or 1) > 1 and not is_cached(dispatcher, *args):
-        helper = _start_helper(dispatcher, signature(dispatcher, *args))
-    try:
-        yield helper is not None
-        if helper is not None:
-            helper.wait()
-    finally:
-        if helper is not None and helper.poll() is None:
-            helper.kill()
-            helper.wait()
-
-
-def _start_helper(dispatcher: Dispatcher, types_: tuple) -> subprocess.Popen | None:
-    """A helper process compiling ``dispatcher`` for ``types_``, holding its lock (None if the lock
-    is held by another process or the helper cannot start)."""
-    import fcntl
-
-    from presag_opt.processes import interrupts_held
-
-    handle = _lock_file(dispatcher)
-    if handle is None:
-        return None
-    with handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            return None  # another process is compiling it: compile_once waits for that one
-        order = pickle.dumps((os.getpid(), [os.path.abspath(p) for p in sys.path],
-                              dispatcher.py_func.__module__, dispatcher.py_func.__qualname__, types_))
-        root = str(Path(__file__).resolve().parents[2])  # the folder presag_opt is imported from
-        try:
-            with interrupts_held():  # a started helper is always known to the finally that kills it
-                helper = subprocess.Popen(
-                    [sys.executable, "-c", _HELPER_CODE, root], stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
-                    stderr=subprocess.DEVNULL, pass_fds=(handle.fileno(),))
-        except OSError:
-            return None
-    # the helper now holds the only open copy of the locked file: the lock is its until it exits
-    try:
-        helper.stdin.write(order)
-        helper.stdin.close()
-    except OSError:
-        pass  # the helper is gone already: the lock with it
-    return helper
-
-
-_HELPER_CODE = ("import sys; sys.path.insert(0, sys.argv[1]); "
-                "from presag_opt.native.jit import _helper_main; _helper_main()")
-"""What a helper process of :func:`compiling_elsewhere` runs (its order is pickled on standard input)."""
-
-
-def _helper_main() -> None:
-    """The helper of :func:`compiling_elsewhere`: read the order, compile, exit."""
-    import importlib
-
-    from presag_opt.processes import end_with_parent
-
-    parent, path, module, name, types_ = pickle.loads(sys.stdin.buffer.read())
-    end_with_parent(parent)
-    sys.path[:0] = [p for p in path if p not in sys.path]
-    dispatcher = getattr(importlib.import_module(module), name)
-    dispatcher.compile(types_)
 
 
 def kernel_function(function: Callable) -> Dispatcher:

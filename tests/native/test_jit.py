@@ -7,8 +7,6 @@ The end-to-end check (an edited law takes effect with a warm cache) is
 from __future__ import annotations
 
 import importlib.util
-import os
-import signal
 import sys
 
 import pytest
@@ -97,74 +95,3 @@ def test_the_kernel_cache_is_written_and_read_back(tmp_path):
     assert again.user(2.0) == 5.0
     assert sum(again.user.stats.cache_hits.values()) == 1 and not sum(again.user.stats.cache_misses.values())
 
-
-def _lock_is_free(dispatcher) -> bool:
-    """Whether nobody holds the kernel function's compile lock (taken and released at once if so)."""
-    import fcntl
-
-    with jit._lock_file(dispatcher) as handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            return False
-        return True
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
-def test_a_helper_process_compiles_into_the_cache_and_the_caller_loads_it(tmp_path, monkeypatch):
-    """compiling_elsewhere: a helper process compiles the function for the call's types and writes
-    the cache; this process compiles nothing (one cache hit, no miss), and no lock is left held."""
-    monkeypatch.setattr(os, "cpu_count", lambda: 2)
-    user = _two_files(tmp_path)
-    monkeypatch.syspath_prepend(str(tmp_path))  # the helper imports the module by name
-    with jit.compiling_elsewhere(user.user, 1.0) as elsewhere:
-        assert elsewhere
-    assert not user.user.overloads and jit.is_cached(user.user, 1.0)
-    jit.compile_once(user.user, 1.0)
-    assert sum(user.user.stats.cache_hits.values()) == 1 and not sum(user.user.stats.cache_misses.values())
-    assert user.user(1.0) == 3.0
-    assert _lock_is_free(user.user)
-    with jit.compiling_elsewhere(user.user, 2.0) as elsewhere:  # compiled for these types: no helper
-        assert not elsewhere
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
-def test_no_helper_when_another_process_compiles_or_on_one_core(tmp_path, monkeypatch):
-    """A held compile lock (another process compiling the function) or a one-core machine: no
-    helper, the caller compiles (or waits) as compile_once does."""
-    import fcntl
-
-    user = _two_files(tmp_path)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setattr(os, "cpu_count", lambda: 1)
-    with jit.compiling_elsewhere(user.user, 1.0) as elsewhere:
-        assert not elsewhere
-    monkeypatch.setattr(os, "cpu_count", lambda: 2)
-    with jit._lock_file(user.user) as held:
-        fcntl.flock(held, fcntl.LOCK_EX)
-        with jit.compiling_elsewhere(user.user, 1.0) as elsewhere:
-            assert not elsewhere
-    assert not jit.is_cached(user.user, 1.0)
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
-def test_an_interrupt_kills_the_helper_and_frees_the_lock(tmp_path, monkeypatch):
-    """Ctrl-C while the helper compiles: leaving the block kills and reaps it, the lock is free at
-    once (the helper here never finishes: it only holds the lock), nothing is cached."""
-    monkeypatch.setattr(os, "cpu_count", lambda: 2)
-    monkeypatch.setattr(jit, "_HELPER_CODE", "import sys, time; sys.stdin.buffer.read(); time.sleep(600)")
-    user = _two_files(tmp_path)
-    started = []
-    real_start = jit._start_helper
-
-    def start(*args):
-        started.append(real_start(*args))
-        return started[-1]
-
-    monkeypatch.setattr(jit, "_start_helper", start)
-    with pytest.raises(KeyboardInterrupt), jit.compiling_elsewhere(user.user, 1.0) as elsewhere:
-        assert elsewhere and not _lock_is_free(user.user)  # the helper holds it
-        raise KeyboardInterrupt
-    helper = started[0]
-    assert helper.returncode == -signal.SIGKILL
-    assert _lock_is_free(user.user) and not jit.is_cached(user.user, 1.0)

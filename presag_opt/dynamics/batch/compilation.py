@@ -6,7 +6,7 @@ before a batch calls them, by :func:`compile_kernel`. Compiled afresh, they take
 core, more than half of it in :func:`~presag_opt.dynamics.batch.kernel.newton_steps` (each run's
 Newton iteration, which ``advance`` calls; about 11 s), which has a cache entry of its own. So the
 first compilation is split over two processes: a helper compiles ``newton_steps`` into the cache
-(:func:`presag_opt.native.jit.compiling_elsewhere`) while this process compiles ``initialise`` and
+(:func:`compiling_elsewhere`) while this process compiles ``initialise`` and
 the parts ``advance`` calls besides it (the sweeps and the step's bookkeeping,
 :func:`advance_calls`); ``advance`` itself is compiled last, with ``newton_steps`` loaded from the
 cache. The machine code is the same as one process would make (each function is compiled from the
@@ -27,12 +27,21 @@ otherwise would compile its callee again in this process (time lost, the numbers
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+import os
+import pickle
+import subprocess
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+from numba.core.dispatcher import Dispatcher
 
 from presag_opt import runtime
 from presag_opt.dynamics.batch import kernel
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import compile_once, compiling_elsewhere, is_cached, signature
+from presag_opt.native.jit import compile_once, is_cached, lock_file, signature
+from presag_opt.processes import end_with_parent, interrupts_held
 
 FIRST_USE_NOTE = "compiling the batch kernel for its first use on this installation (about 10-20 s, once)"
 """What the progress display says while the kernel is compiled afresh."""
@@ -85,8 +94,10 @@ def advance_calls(c_sweeps, scalars, shared, runs, state, out, work) -> list[tup
 
     Parameters
     ----------
-    c_sweeps, scalars, shared, runs, state, out, work
-        As :func:`compile_kernel`.
+    c_sweeps : CSweeps or None
+        The compiled C sweeps, or None for numba's.
+    scalars, shared, runs, state, out, work : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
 
     Returns
     -------
@@ -104,3 +115,88 @@ def advance_calls(c_sweeps, scalars, shared, runs, state, out, work) -> list[tup
                   (native.backward_sweep, (c_sweeps, shared, work, active)),
                   (native.update_sweep, (c_sweeps, step, scalars, shared, runs, state, out, work, active))]
     return calls
+
+
+@contextlib.contextmanager
+def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]:
+    """Compile a kernel function for the types of ``args`` in a helper process while the block runs.
+
+    The lock of :func:`~presag_opt.native.jit.compile_once` is taken here and handed to the helper, which holds it until it
+    has written the compiled code to the cache and exits: a ``compile_once`` of the same function
+    and types, in this process or another, waits for it and then loads the cache. The block's value
+    says whether a helper was started: not when the function is compiled or cached already, when
+    another process is compiling it, where file locks are not available, or where the machine has one
+    core; the caller then compiles as usual.
+
+    The helper leaves interrupts to this process and ends with it (:func:`presag_opt.processes.end_with_parent`);
+    it prints nothing. Leaving the block waits for it; leaving it by an exception (Ctrl-C, SIGTERM
+    turned into an interrupt) kills it first. A killed helper leaves no lock behind (a file lock
+    ends with its holder) and at worst no cache entry, which the next ``compile_once`` then
+    compiles.
+
+    Parameters
+    ----------
+    dispatcher : numba Dispatcher
+        A function made by :func:`~presag_opt.native.jit.kernel_function`, defined at the top level of an importable module.
+    *args
+        Arguments of the call to compile for (only their numba types matter; they must pickle).
+    """
+    helper = None
+    if (os.cpu_count() or 1) > 1 and not is_cached(dispatcher, *args):
+        helper = _start_helper(dispatcher, signature(dispatcher, *args))
+    try:
+        yield helper is not None
+        if helper is not None:
+            helper.wait()
+    finally:
+        if helper is not None and helper.poll() is None:
+            helper.kill()
+            helper.wait()
+
+
+def _start_helper(dispatcher: Dispatcher, types_: tuple) -> subprocess.Popen | None:
+    """A helper process compiling ``dispatcher`` for ``types_``, holding its lock (None if the lock
+    is held by another process or the helper cannot start)."""
+    import fcntl
+
+    handle = lock_file(dispatcher)
+    if handle is None:
+        return None
+    with handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return None  # another process is compiling it: compile_once waits for that one
+        order = pickle.dumps((os.getpid(), [os.path.abspath(p) for p in sys.path],
+                              dispatcher.py_func.__module__, dispatcher.py_func.__qualname__, types_))
+        root = str(Path(__file__).resolve().parents[3])  # the folder presag_opt is imported from
+        try:
+            with interrupts_held():  # a started helper is always known to the finally that kills it
+                helper = subprocess.Popen(
+                    [sys.executable, "-c", _HELPER_CODE, root], stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL, pass_fds=(handle.fileno(),))
+        except OSError:
+            return None
+    # the helper now holds the only open copy of the locked file: the lock is its until it exits
+    try:
+        helper.stdin.write(order)
+        helper.stdin.close()
+    except OSError:
+        pass  # the helper is gone already: the lock with it
+    return helper
+
+
+_HELPER_CODE = ("import sys; sys.path.insert(0, sys.argv[1]); "
+                "from presag_opt.dynamics.batch.compilation import _helper_main; _helper_main()")
+"""What a helper process of :func:`compiling_elsewhere` runs (its order is pickled on standard input)."""
+
+
+def _helper_main() -> None:
+    """The helper of :func:`compiling_elsewhere`: read the order, compile, exit."""
+    import importlib
+
+    parent, path, module, name, types_ = pickle.loads(sys.stdin.buffer.read())
+    end_with_parent(parent)
+    sys.path[:0] = [p for p in path if p not in sys.path]
+    dispatcher = getattr(importlib.import_module(module), name)
+    dispatcher.compile(types_)
