@@ -41,6 +41,15 @@ def _children(pid: int) -> list[int]:
     return out
 
 
+def _kill(pids: list[int]) -> None:
+    """SIGKILL each of ``pids`` that still runs (a test's processes, whatever happened)."""
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
 def _wait_until(condition, seconds: float) -> bool:
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
@@ -133,11 +142,7 @@ def test_the_kernel_compile_helper_stops_with_its_command(stop, tmp_path):
             process.wait(timeout=30)
             assert _wait_until(lambda: not any(_alive(pid) for pid in helpers), 5.0), "the helper outlived a SIGKILL"
     finally:
-        for pid in [process.pid, *helpers]:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        _kill([process.pid, *helpers])
 
 
 ROBUST_MODEL = Path(__file__).parent / "robust" / "models" / "st_9.8_six_short_spans.toml"
@@ -171,11 +176,7 @@ def test_workers_exit_within_seconds_of_a_sigkill_of_their_command(command, tmp_
         assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 5.0), (
             f"{command}: {sum(_alive(pid) for pid in workers)} of {len(workers)} workers outlived a SIGKILL by 5 s")
     finally:
-        for pid in [process.pid, *workers]:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        _kill([process.pid, *workers])
 
 
 def test_the_policy_alone_chooses_the_start_method(monkeypatch):
