@@ -260,6 +260,20 @@ def _start_worker(parent: int, settings: runtime.Runtime, job: Callable[..., Any
     if job is not None:
         _JOB.set(job)
     warnings.simplefilter("ignore")
+    end_with_parent(parent)
+
+
+def end_with_parent(parent: int) -> None:
+    """Leave interrupts to the parent process ``parent`` and end when it ends: ignore SIGINT (Ctrl-C
+    reaches the whole process group; the parent stops this process), take SIGTERM's default action,
+    and exit at once when the parent is gone (``PR_SET_PDEATHSIG`` on Linux, and a thread that
+    checks every :data:`PARENT_POLL` seconds everywhere).
+
+    Parameters
+    ----------
+    parent : int
+        Process id of the parent. [-]
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if sys.platform.startswith("linux"):

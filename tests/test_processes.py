@@ -41,6 +41,15 @@ def _children(pid: int) -> list[int]:
     return out
 
 
+def _kill(pids: list[int]) -> None:
+    """SIGKILL each of ``pids`` that still runs (a test's processes, whatever happened)."""
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
 def _wait_until(condition, seconds: float) -> bool:
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
@@ -85,6 +94,57 @@ def test_sigterm_stops_a_sweep_and_its_workers(tmp_path):
             pass
 
 
+def _helpers(pid: int) -> list[int]:
+    """The kernel compile helpers among the children of ``pid`` (not the C compiler's processes)."""
+    found = []
+    for child in _children(pid):
+        try:
+            if b"_helper_main" in Path(f"/proc/{child}/cmdline").read_bytes():
+                found.append(child)
+        except (FileNotFoundError, ProcessLookupError):
+            pass
+    return found
+
+
+FIRST_SIMULATE = ["simulate", "--case", "case_study_st98", "--speed", "80", "--static-force", "100,120"]
+
+
+@pytest.mark.e2e
+@pytest.mark.skipif(not Path("/proc").is_dir() or (os.cpu_count() or 1) < 2,
+                    reason="reads the process table from /proc; the helper needs two cores")
+@pytest.mark.parametrize("stop", ["SIGTERM", "SIGKILL"])
+def test_the_kernel_compile_helper_stops_with_its_command(stop, tmp_path):
+    """The first dynamic command with an empty numba cache starts a helper that compiles half of the
+    kernel (presag_opt.dynamics.batch.compilation). SIGTERM to the command: exit 130, one line, the
+    helper gone and its compile lock free; SIGKILL: the helper exits alone within seconds."""
+    import fcntl
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "XDG_CACHE_HOME": str(tmp_path / "xdg")}
+    env.pop("PRESAG_NO_COMPILE", None)
+    process = subprocess.Popen([str(SCRIPT), *FIRST_SIMULATE], cwd=tmp_path, env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
+    helpers: list[int] = []
+    try:
+        assert _wait_until(lambda: _helpers(process.pid), 120), "the helper did not start"
+        helpers = _helpers(process.pid)
+        time.sleep(1.0)  # the helper is past its start, compiling
+        if stop == "SIGTERM":
+            process.send_signal(signal.SIGTERM)
+            _, err = process.communicate(timeout=120)
+            assert process.returncode == 130
+            assert err.strip().splitlines()[-1] == "presag: interrupted" and "Traceback" not in err, err
+            assert not any(_alive(pid) for pid in helpers), "the helper outlived the command"
+            for lock in (tmp_path / "numba").rglob("presag-kernel-*.lock"):
+                with open(lock) as handle:
+                    fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)  # raises if still held
+        else:
+            process.kill()
+            process.wait(timeout=30)
+            assert _wait_until(lambda: not any(_alive(pid) for pid in helpers), 5.0), "the helper outlived a SIGKILL"
+    finally:
+        _kill([process.pid, *helpers])
+
+
 ROBUST_MODEL = Path(__file__).parent / "robust" / "models" / "st_9.8_six_short_spans.toml"
 
 POOL_COMMANDS = {
@@ -116,11 +176,7 @@ def test_workers_exit_within_seconds_of_a_sigkill_of_their_command(command, tmp_
         assert _wait_until(lambda: not any(_alive(pid) for pid in workers), 5.0), (
             f"{command}: {sum(_alive(pid) for pid in workers)} of {len(workers)} workers outlived a SIGKILL by 5 s")
     finally:
-        for pid in [process.pid, *workers]:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        _kill([process.pid, *workers])
 
 
 def test_the_policy_alone_chooses_the_start_method(monkeypatch):

@@ -15,7 +15,8 @@ Compiling the kernel takes about 20 s of one core (:func:`kernel_part` says why 
 point for the types of a call before the call, one process at a time: a process that finds another
 compiling (the workers of a pool started together, two commands, the workers of a test run) waits
 for it and then loads its cache instead of compiling the same code again on a core that has other
-work.
+work. The lock is one per kernel function, so that two processes can compile two of them at once
+(the kernel's first compilation on two cores, :mod:`presag_opt.dynamics.batch.compilation`).
 
 Only the functions compiled by :func:`kernel_function` use the locator: each gets a cache of its own
 class (:class:`KernelCache`, numba's function cache with :class:`DependencyLocator` as its one locator)
@@ -32,6 +33,7 @@ import os
 import types
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import IO
 
 from numba import njit
 from numba.core import caching
@@ -122,6 +124,24 @@ class KernelCache(caching.FunctionCache):
     _impl_class = _KernelCacheImpl
 
 
+def signature(dispatcher: Dispatcher, *args: object) -> tuple:
+    """The numba types of ``args`` as ``dispatcher`` sees them: the key of its compilation for them."""
+    return tuple(dispatcher.typeof_pyval(a) for a in args)
+
+
+def is_cached(dispatcher: Dispatcher, *args: object) -> bool:
+    """Whether a kernel function is compiled for the types of ``args`` in this process or in its
+    on-disk cache (read from the cache's index, nothing loaded)."""
+    types_ = signature(dispatcher, *args)
+    if types_ in dispatcher.overloads:
+        return True
+    cache = dispatcher._cache
+    try:
+        return cache._index_key(types_, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
+    except (AttributeError, OSError):
+        return False
+
+
 def compile_once(dispatcher: Dispatcher, *args: object) -> None:
     """Compile (or load from the cache) a kernel function for the types of ``args`` before it is
     called with them, holding a lock beside its cache while doing so (see the module notes).
@@ -133,26 +153,37 @@ def compile_once(dispatcher: Dispatcher, *args: object) -> None:
     *args
         The arguments it is about to be called with (only their numba types matter).
     """
-    types_ = tuple(dispatcher.typeof_pyval(a) for a in args)
+    types_ = signature(dispatcher, *args)
     if types_ in dispatcher.overloads:
         return
     with _compile_lock(dispatcher):
         dispatcher.compile(types_)
 
 
-@contextlib.contextmanager
-def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
-    """An exclusive lock on a file in the kernel function's cache folder (none where file locks or the
-    folder are not available: each process then compiles on its own, as numba alone would)."""
+def lock_file(dispatcher: Dispatcher) -> IO[str] | None:
+    """The kernel function's lock file in its cache folder, open (one per function, so that two
+    processes can compile two functions at once); None where file locks or the folder are not
+    available: each process then compiles on its own, as numba alone would."""
     try:
-        import fcntl
+        import fcntl  # noqa: F401 - only where it exists
 
         locator = dispatcher._cache._impl.locator
         locator.ensure_cache_path()
-        handle = open(Path(locator.get_cache_path()) / "presag-kernel.lock", "a")  # noqa: SIM115 - closed below
+        name = f"presag-kernel-{dispatcher.py_func.__qualname__}.lock"
+        return open(Path(locator.get_cache_path()) / name, "a")  # noqa: SIM115 - the caller closes it
     except (ImportError, AttributeError, OSError):
+        return None
+
+
+@contextlib.contextmanager
+def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
+    """An exclusive lock on the kernel function's lock file (:func:`lock_file`; none without one)."""
+    handle = lock_file(dispatcher)
+    if handle is None:
         yield
         return
+    import fcntl
+
     with handle:
         fcntl.flock(handle, fcntl.LOCK_EX)  # released when the file is closed
         yield

@@ -94,3 +94,4 @@ def test_the_kernel_cache_is_written_and_read_back(tmp_path):
     again = _two_files(tmp_path)  # the same files loaded again: a new dispatcher, the same cache
     assert again.user(2.0) == 5.0
     assert sum(again.user.stats.cache_hits.values()) == 1 and not sum(again.user.stats.cache_misses.values())
+

@@ -178,7 +178,7 @@ def _simulate(
             members = group[first : first + BATCH_SIZE]
             batch_started = wallclock.perf_counter()
             records = integrate_batch(state, system, [plans[i] for _, i in members], group_settings,
-                                      [lines[line] for line, _ in members])
+                                      [lines[line] for line, _ in members], progress)
             share = (wallclock.perf_counter() - batch_started) / len(members)
             for b, (line, i) in enumerate(members):
                 outcomes[line, i] = _outcome(state, points[i], plans[i], b, records, keep_histories, share)

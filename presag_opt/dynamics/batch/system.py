@@ -11,6 +11,7 @@ The interface (operating points, outcomes, statistics) is :mod:`presag_opt.dynam
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -19,6 +20,7 @@ import scipy.sparse as sp
 from presag_opt.dynamics.assembly import effective_stiffness
 from presag_opt.dynamics.batch import kernel
 from presag_opt.dynamics.batch.band_rows import BandRows, lower_rows, symmetric_rows, upper_rows
+from presag_opt.dynamics.batch.compilation import compile_kernel
 from presag_opt.dynamics.batch.kernel_data import (
     Records,
     Runs,
@@ -37,7 +39,6 @@ from presag_opt.dynamics.structure import StructuralModel
 from presag_opt.errors import ModelError
 from presag_opt.native import sweeps as native_sweeps
 from presag_opt.native.banded_numba import banded_cholesky_solve
-from presag_opt.native.jit import compile_once
 from presag_opt.static.banded_solver import BandedSolver
 from presag_opt.static.equilibrium import EquilibriumState
 
@@ -201,7 +202,7 @@ class StaticLine:
 
 def integrate_batch(
     state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings,
-    lines: list[StaticLine] | None = None,
+    lines: list[StaticLine] | None = None, progress: Callable[[str], None] | None = None,
 ) -> Records:
     """Integrate one batch of runs on a shared system: what the kernel recorded of each run.
 
@@ -217,6 +218,8 @@ def integrate_batch(
         As for :meth:`BatchSystem.build`.
     lines : list of StaticLine, optional
         Each run's static line; default the structure's own for every run.
+    progress : callable, optional
+        Told when the kernel is compiled for its first use (:func:`~presag_opt.dynamics.batch.compilation.compile_kernel`).
 
     Returns
     -------
@@ -298,8 +301,7 @@ def integrate_batch(
     )
     scratch = make_scratch(shared)
     work = make_work(shared, n_runs, lanes)
-    compile_once(kernel.initialise, system.scalars, shared, runs, run_state, out, scratch)
-    compile_once(kernel.advance, 1, 1, c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch)
+    compile_kernel(c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch, progress)
     kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
     for first in range(1, longest + 1, CHUNK_STEPS):
         kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), c_sweeps, system.scalars, shared, runs,
