@@ -268,6 +268,8 @@ class BandEvaluator:
     runs_used : int
         Simulation runs so far. [-]
 
+    Notes
+    -----
     Used as a context manager (``with BandEvaluator(...) as evaluator:``), it keeps its worker
     processes from the first pre-sag it simulates with them to the end of the block, instead of
     starting them for every call (about a second each, importing and loading the compiled kernel);
