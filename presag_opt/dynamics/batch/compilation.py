@@ -19,6 +19,14 @@ for it on the kernel's compile locks and loads its cache), on a machine with one
 compiled code turned off in the runtime (:attr:`presag_opt.runtime.Runtime.compile`): one process
 then compiles everything, as before.
 
+Interrupts: numba's compiler calls back into Python from llvmlite through ctypes, which prints an
+exception raised inside such a callback and swallows it. A Ctrl-C or SIGTERM whose handler ran there
+printed a traceback and the command went on (or ended with another error instead of exit 130), as the
+e2e test of a SIGTERM during the first compilation saw. So every compilation and cache load here runs
+with the interrupts held (:func:`presag_opt.processes.interrupts_held`) and delivered when it returns:
+a Ctrl-C waits for the function being compiled (at most the 11 s of ``newton_steps`` where this
+process compiles it, a few seconds otherwise); waiting for the helper is not held.
+
 The types the helper compiles for are those of the batch's own arrays, and :func:`advance_calls`
 lists the calls of ``advance`` with the arguments it passes: a call of ``advance`` typed
 otherwise would compile its callee again in this process (time lost, the numbers unchanged);
@@ -64,23 +72,31 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
     initialise_args = (scalars, shared, runs, state, out, scratch)
     advance_args = (1, 1, c_sweeps, scalars, shared, runs, state, out, work, scratch)
     if is_cached(kernel.advance, *advance_args) and is_cached(kernel.initialise, *initialise_args):
-        compile_once(kernel.initialise, *initialise_args)
-        compile_once(kernel.advance, *advance_args)
+        with interrupts_held():  # loading calls back from llvmlite too (see the module notes)
+            compile_once(kernel.initialise, *initialise_args)
+            compile_once(kernel.advance, *advance_args)
         return
     if progress is not None:
         progress(FIRST_USE_NOTE)
     newton_args = (1, 1, scalars, shared, runs, state, out, work, scratch)
     if not runtime.current().compile:
-        compile_once(kernel.initialise, *initialise_args)
-        compile_once(kernel.advance, *advance_args)
+        _held(compile_once, kernel.initialise, *initialise_args)
+        _held(compile_once, kernel.advance, *advance_args)
         return
     with compiling_elsewhere(kernel.newton_steps, *newton_args) as elsewhere:
-        compile_once(kernel.initialise, *initialise_args)
+        _held(compile_once, kernel.initialise, *initialise_args)
         if elsewhere:
             for function, args in advance_calls(c_sweeps, scalars, shared, runs, state, out, work):
-                function.compile(signature(function, *args))
-    compile_once(kernel.newton_steps, *newton_args)  # loads what the helper compiled
-    compile_once(kernel.advance, *advance_args)
+                _held(function.compile, signature(function, *args))
+    _held(compile_once, kernel.newton_steps, *newton_args)  # loads what the helper compiled
+    _held(compile_once, kernel.advance, *advance_args)
+
+
+def _held(compile_call: Callable[..., object], *args: object) -> None:
+    """One compilation with Ctrl-C and SIGTERM held back until it returns, then delivered (see the
+    module notes)."""
+    with interrupts_held():
+        compile_call(*args)
 
 
 def advance_calls(c_sweeps, scalars, shared, runs, state, out, work) -> list[tuple[object, tuple]]:

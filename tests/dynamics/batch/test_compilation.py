@@ -151,3 +151,31 @@ def test_an_interrupt_kills_the_helper_and_frees_the_lock(tmp_path, monkeypatch)
     helper = started[0]
     assert helper.returncode == -signal.SIGKILL
     assert _lock_is_free(user.user) and not jit.is_cached(user.user, 1.0)
+
+
+def _interrupted_inside_a_callback(*args):
+    """What numba's compiler does when Ctrl-C arrives in the middle of it: Python code run from a
+    ctypes callback (llvmlite's object cache notifications), where an interrupt's KeyboardInterrupt
+    is printed and swallowed by ctypes."""
+    import ctypes
+
+    @ctypes.CFUNCTYPE(None)
+    def callback():
+        signal.raise_signal(signal.SIGINT)
+
+    callback()
+
+
+@pytest.mark.parametrize("warm", [True, False])
+def test_an_interrupt_during_a_compilation_stops_the_command_instead_of_vanishing(monkeypatch, warm, capfd):
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # as the command line installs it
+    try:
+        monkeypatch.setattr(compilation, "is_cached", lambda *args: warm)
+        monkeypatch.setattr(compilation, "compile_once", _interrupted_inside_a_callback)
+        monkeypatch.setattr(compilation.runtime, "current",
+                            lambda: type("Off", (), {"compile": False})())  # one process: no helper
+        with pytest.raises(KeyboardInterrupt):
+            compilation.compile_kernel(None, None, None, None, None, None, None, None)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert "Exception ignored" not in capfd.readouterr().err
