@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from presag_opt.cluster import results_on_dask
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, run_job, worker_pool
-from presag_opt.sensitivity.evaluation import run_on_dask
 from presag_opt.sensitivity.inputs import apply_inputs
 from presag_opt.studies.definition import StudyDefinition
 from presag_opt.studies.reduced import reduced_study
@@ -236,8 +236,9 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
             progress(f"runs: {finished}/{total}")
 
     if scheduler is not None:
-        run_on_dask([(i, (definitions[i], group)) for i, group in tasks], scheduler, UnitRunner(), run_on_cluster,
-                    collect)
+        for i, unit_results in results_on_dask([(i, (definitions[i], group)) for i, group in tasks], scheduler,
+                                               UnitRunner(), run_on_cluster):
+            collect(i, unit_results)
     elif workers == 1 or len(tasks) <= 1:
         runner = UnitRunner()
         for i, group in tasks:

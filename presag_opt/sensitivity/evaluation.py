@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt import runtime
+from presag_opt.cluster import results_on_dask
 from presag_opt.errors import ModelError, PresagError, failure_reason
 from presag_opt.evaluation_store import Evaluation, EvaluationStore
 from presag_opt.processes import WorkerPolicy, worker_pool
@@ -167,8 +168,9 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
 
     batches = [(indices, rows[indices]) for indices in tasks.values()]
     if scheduler is not None:
-        run_on_dask([(indices, (block,)) for indices, block in batches], scheduler, function, evaluate_on_cluster,
-                    finish)
+        for indices, outcomes in results_on_dask([(tuple(indices), (block,)) for indices, block in batches],
+                                                 scheduler, function, evaluate_on_cluster):
+            finish(list(indices), outcomes)
     elif workers == 1 or len(batches) <= 1:
         for indices, block in batches:
             finish(indices, evaluate_block(function, block))
@@ -182,63 +184,6 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
         finished = next((e for e in ordered if e.ok), None)
         value_names = list(finished.values) if finished is not None else []
     return RowEvaluations(ordered, tuple(value_names))
-
-
-def dask_client(address: str):
-    """A Dask distributed client of the scheduler at ``address`` (one clear line if it cannot connect).
-
-    Parameters
-    ----------
-    address : str
-        Scheduler address, e.g. ``tcp://host:8786``.
-
-    Raises
-    ------
-    ModelError
-        Dask distributed is not installed, or the scheduler does not answer within 20 s.
-    """
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
-    try:
-        return Client(str(address), timeout="20s")
-    except (OSError, TimeoutError) as exc:
-        raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
-
-
-def run_on_dask(tasks, address: str, job, run, finish) -> None:
-    """Tasks on a Dask distributed cluster, results handled as they arrive.
-
-    ``job`` is scattered to every Dask worker once (so whatever it keeps serves all the tasks there);
-    each task runs ``run(job, runtime, *work)`` there, with the runtime in force here
-    (:func:`presag_opt.runtime.current`: a Dask worker is not started by this process, so the
-    runtime travels with each task).
-
-    Parameters
-    ----------
-    tasks : sequence of (label, work)
-        The tasks: ``work`` is a tuple of arguments; ``finish(label, result)`` takes the result.
-    address : str
-        Scheduler address.
-    job : callable
-        Picklable; handed to ``run`` on the worker.
-    run : callable
-        ``run(job, runtime, *work)``; it enters the runtime and calls the job.
-    finish : callable
-        See ``tasks``.
-    """
-    from distributed import as_completed as dask_completed
-
-    with dask_client(address) as client:
-        scattered = client.scatter(job, broadcast=True)
-        settings = runtime.current()
-        futures = {client.submit(run, scattered, settings, *work, pure=False): label for label, work in tasks}
-        try:
-            for future in dask_completed(list(futures)):
-                finish(futures[future], future.result())
-        finally:
-            client.cancel(list(futures))
 
 
 def evaluate_on_cluster(function: Callable[[np.ndarray], np.ndarray], settings: runtime.Runtime,
@@ -258,4 +203,4 @@ def evaluate_on_cluster(function: Callable[[np.ndarray], np.ndarray], settings: 
         return evaluate_block(function, rows)
 
 
-__all__ = ["RowEvaluations", "dask_client", "evaluate_block", "evaluate_on_cluster", "evaluate_rows", "run_on_dask"]
+__all__ = ["RowEvaluations", "evaluate_block", "evaluate_on_cluster", "evaluate_rows"]

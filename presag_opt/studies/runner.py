@@ -18,7 +18,7 @@ from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
-from presag_opt import runtime
+from presag_opt.cluster import results_on_dask
 from presag_opt.dynamics.cost import WorkEstimate
 from presag_opt.errors import ModelError
 from presag_opt.processes import WorkerPolicy, run_job, worker_pool
@@ -243,24 +243,8 @@ def _local_results(definition: StudyDefinition, pending: list[WorkUnit], workers
 
 
 def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address: object) -> Iterator[UnitResult]:
-    """Results of the pending units from a Dask distributed cluster, in the order they finish."""
-    if not pending:
-        return
-    try:
-        from distributed import Client
-        from distributed import as_completed as dask_completed
-    except ImportError:
-        raise ModelError("--scheduler needs Dask distributed: pip install 'presag-opt[cluster]'") from None
-    try:
-        client = Client(str(address), timeout="20s")
-    except (OSError, TimeoutError) as exc:
-        raise ModelError(f"scheduler {address}: cannot connect ({str(exc).splitlines()[0]})") from None
-    with client:
-        scattered, runner = client.scatter([definition, UnitRunner()], broadcast=True)
-        futures = [client.submit(run_on_cluster, runner, runtime.current(), scattered, group, pure=False)
-                   for group in task_groups(pending)]
-        try:
-            for future in dask_completed(futures):
-                yield from future.result()
-        finally:
-            client.cancel(futures)
+    """Results of the pending units from a Dask distributed cluster, in the order they finish (a unit
+    whose worker dies is run again by the scheduler)."""
+    tasks = [(None, (definition, group)) for group in task_groups(pending)]
+    for _, unit_results in results_on_dask(tasks, str(address), UnitRunner(), run_on_cluster):
+        yield from unit_results

@@ -209,8 +209,8 @@ class UnitRunner:
 def run_on_cluster(runner: UnitRunner, settings: Runtime, definition: StudyDefinition,
                    units: list[WorkUnit]) -> list[UnitResult]:
     """A Dask task: ``runner(definition, units)`` in the runtime of the process that submitted it (a
-    Dask worker is not started by that process, so the runtime travels with each task; the runner is
-    scattered once per worker, so its memo serves all the tasks there)."""
+    Dask worker is not started by that process, so the runtime travels with each task; each worker
+    holds one runner, so its memo serves all the tasks there: see :func:`presag_opt.cluster.results_on_dask`)."""
     with settings:
         return runner(definition, units)
 

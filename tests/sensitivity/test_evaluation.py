@@ -62,7 +62,7 @@ def test_chunks_and_a_dask_cluster_give_the_rows_in_order():
     chunked = evaluate_rows(ishigami, rows, chunk=5, workers=2, progress=done.append).values
     assert np.array_equal(chunked, one)
     assert done[-1] == f"evaluations: {len(rows)}/{len(rows)}" and len(done) == -(-len(rows) // 5)  # one call per chunk
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster:
         on_dask = evaluate_rows(ishigami, rows, scheduler=cluster.scheduler_address, chunk=4).values
     assert np.array_equal(on_dask, one)
     with pytest.raises(ModelError, match=r"chunk = 0 is outside the valid range \[1, 15\] rows"):

@@ -42,11 +42,15 @@ def reference(study, tmp_path_factory) -> bytes:
 
 
 @pytest.mark.e2e
-def test_a_dask_worker_killed_mid_study_changes_no_byte(study, reference, tmp_path):
+@pytest.mark.parametrize("killed", ["one worker", "every worker"])
+def test_a_dask_worker_killed_mid_study_changes_no_byte(study, reference, tmp_path, killed):
+    """SIGKILL of the busy worker, or of both, 0.5 s into a unit: the nannies restart them and the
+    scheduler runs the lost units again. With every worker killed, anything that lived only on the
+    workers (data scattered to them) is gone for certain; the tasks must not depend on it."""
     distributed = pytest.importorskip("distributed")
     store = tmp_path / "dask.nc"
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         pids = client.run(os.getpid)  # worker address -> pid of the worker process (its nanny restarts it)
         errors: list[BaseException] = []
 
@@ -65,10 +69,12 @@ def test_a_dask_worker_killed_mid_study_changes_no_byte(study, reference, tmp_pa
             time.sleep(0.05)
         assert busy, "no Dask worker picked up a unit within 120 s"
         time.sleep(0.5)  # inside the unit, not at its start
-        os.kill(pids[busy[0]], signal.SIGKILL)
+        victims = [pids[busy[0]]] if killed == "one worker" else list(pids.values())
+        for pid in victims:
+            os.kill(pid, signal.SIGKILL)
         thread.join(timeout=300)
         assert not thread.is_alive(), "the study did not finish after the worker was killed"
-        assert pids[busy[0]] not in client.run(os.getpid).values(), "the killed worker process still runs"
+        assert not set(victims) & set(client.run(os.getpid).values()), "a killed worker process still runs"
     assert not errors, errors
     assert not units_directory(store).joinpath(LOCK).exists()
     assert store.read_bytes() == reference
@@ -93,7 +99,7 @@ def test_a_memory_error_inside_a_worker_fails_its_runs_and_the_study_goes_on(stu
     monkeypatch.setattr(work, "simulate_many", simulate_many)
     store = tmp_path / "memory.nc"
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         outcome = run_study(study, store, scheduler=cluster.scheduler_address)
     ds = open_store(store)
     # One task (one pre-sag, both speeds, both forces) failed; the other pre-sag's four runs finished.

@@ -118,7 +118,7 @@ def test_dask_local_cluster_gives_the_same_store(small_study, reference_store, t
     distributed = pytest.importorskip("distributed")
     store = tmp_path / "dask.nc"
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         run_study(small_study, store, scheduler=cluster.scheduler_address, progress=None)
     assert_same_store(store, reference_store)
 
