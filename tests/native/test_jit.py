@@ -95,3 +95,34 @@ def test_the_kernel_cache_is_written_and_read_back(tmp_path):
     assert again.user(2.0) == 5.0
     assert sum(again.user.stats.cache_hits.values()) == 1 and not sum(again.user.stats.cache_misses.values())
 
+
+
+def test_kernel_functions_and_parts_compile_at_the_kernel_level_and_leave_numba_at_its_own(tmp_path, monkeypatch):
+    """Every compilation of a kernel function and of its parts sees numba's optimisation level at
+    KERNEL_OPTIMISATION (numba reads it per compilation), and numba's own level is back after; the
+    level is part of the cache key, so a cache compiled at another level is not loaded."""
+    from numba.core import config, event
+
+    seen = []
+
+    class Levels(event.Listener):
+        def on_start(self, ev):
+            seen.append((ev.data["dispatcher"].py_func.__name__, int(config.OPT)))
+
+        def on_end(self, ev):
+            pass
+
+    levels = Levels()
+    event.register("numba:compile", levels)
+    own = int(config.OPT)
+    try:
+        user = _two_files(tmp_path)
+        stamp = jit.source_stamp(user.user.py_func)
+        assert user.user(3.0) == 7.0
+    finally:
+        event.unregister("numba:compile", levels)
+    assert {name for name, _ in seen} == {"user", "law"}
+    assert all(level == jit.KERNEL_OPTIMISATION for _, level in seen), seen
+    assert int(config.OPT) == own
+    monkeypatch.setattr(jit, "KERNEL_OPTIMISATION", jit.KERNEL_OPTIMISATION + 1)
+    assert jit.source_stamp(user.user.py_func) != stamp
