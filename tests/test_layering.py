@@ -23,6 +23,7 @@ LAYERS = {
     "native": 1,
     "speed": 1,
     "processes": 1,
+    "cluster": 1,
     "atomic_files": 1,
     "evaluation_store": 2,
     "style": 1,
