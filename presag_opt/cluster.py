@@ -80,13 +80,13 @@ def results_on_dask(tasks: Iterable[tuple[Any, tuple]], address: str, job: Any,
     ModelError
         No Dask distributed, or the scheduler does not answer.
     """
-    from distributed import as_completed as dask_completed
-
     tasks = list(tasks)
     if not tasks:
         return
     name = f"presag-job-{uuid.uuid4().hex}"
     with dask_client(address) as client:
+        from distributed import as_completed as dask_completed
+
         client.register_plugin(JobPlugin(job), name=name)
         settings = runtime.current()
         futures = {client.submit(run_with_job, name, run, settings, *work, pure=False): label

@@ -7,6 +7,7 @@ is the e2e test in ``tests/studies/test_faults_in_studies.py``.
 
 from __future__ import annotations
 
+import sys
 import threading
 import time
 
@@ -118,3 +119,9 @@ def test_the_plugin_holds_its_job():
     job = CountingJob()
     assert JobPlugin(job).job is job
     assert isinstance(JobPlugin(job), distributed.diagnostics.plugin.WorkerPlugin)
+
+
+def test_without_distributed_the_run_says_what_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed raises ImportError
+    with pytest.raises(ModelError, match=r"needs Dask distributed: pip install 'presag-opt\[cluster\]'"):
+        list(results_on_dask([(0, (1.0,))], "tcp://127.0.0.1:1", CountingJob(), run_counting))
