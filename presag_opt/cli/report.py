@@ -56,6 +56,7 @@ def report_command(args: argparse.Namespace) -> int:
     """Handler of ``presag report``."""
     import warnings
 
+    from presag_opt.dynamics.batch.first_use import compiling_ahead
     from presag_opt.dynamics.pantograph import load_pantograph
     from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH, DynamicOptions
     from presag_opt.report.content import REPORT_OPTIONS, design_report
@@ -71,7 +72,7 @@ def report_command(args: argparse.Namespace) -> int:
     if args.dynamic_robust:
         dynamic = DynamicOptions(pantograph=pantograph, workers=workers_of(args))
         announce_dynamic(args, load_catenary(models[0]), band, load_pantograph(pantograph), models[0])
-    with warnings.catch_warnings(record=True) as caught, progress(args) as report:
+    with warnings.catch_warnings(record=True) as caught, progress(args) as report, compiling_ahead():
         warnings.simplefilter("always")
         result = design_report(models, band=band, pantograph=pantograph, quick=args.quick, dynamic=dynamic,
                                element_length=args.element_length, progress=report, **settings)

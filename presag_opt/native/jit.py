@@ -166,6 +166,17 @@ def is_cached(dispatcher: Dispatcher, *args: object) -> bool:
         return False
 
 
+def has_cache_entries(dispatcher: Dispatcher) -> bool:
+    """Whether a kernel function is compiled in this process or has any entry, for any types, in its
+    on-disk cache for the current sources (read from the cache's index, nothing loaded)."""
+    if dispatcher.overloads:
+        return True
+    try:
+        return bool(dispatcher._cache._cache_file._load_index())
+    except (AttributeError, OSError):
+        return False
+
+
 def compile_once(dispatcher: Dispatcher, *args: object) -> None:
     """Compile (or load from the cache) a kernel function for the types of ``args`` before it is
     called with them, holding a lock beside its cache while doing so (see the module notes).

@@ -14,10 +14,12 @@ same source for the same types; a cached function is linked into its callers as 
 when it compiled it in the same process), so the numbers are the same to the last bit.
 
 Nothing of this runs when ``advance`` is compiled or cached already (the common case: a warm cache
-costs a look at numba's cache index), when another process is compiling the kernel (this one waits
-for it on the kernel's compile locks and loads its cache), on a machine with one core, or with
-compiled code turned off in the runtime (:attr:`presag_opt.runtime.Runtime.compile`): one process
-then compiles everything, as before.
+costs a look at numba's cache index), on a machine with one core, or with compiled code turned off
+in the runtime (:attr:`presag_opt.runtime.Runtime.compile`): one process then compiles everything,
+as before. When another process holds ``newton_steps``' compile lock already (a helper the command
+started when it started, :mod:`presag_opt.dynamics.batch.first_use`, or another command), no second
+helper is started: this process compiles the rest meanwhile, waits for it on the lock and loads its
+cache.
 
 Interrupts: numba's compiler calls back into Python from llvmlite through ctypes, which prints an
 exception raised inside such a callback and swallows it. A Ctrl-C or SIGTERM whose handler ran there
@@ -85,7 +87,7 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
         return
     with compiling_elsewhere(kernel.newton_steps, *newton_args) as elsewhere:
         _held(compile_once, kernel.initialise, *initialise_args)
-        if elsewhere:
+        if elsewhere:  # by a helper started here, or one started with the command (first_use)
             for function, args in advance_calls(c_sweeps, scalars, shared, runs, state, out, work):
                 _held(function.compile, signature(function, *args))
     _held(compile_once, kernel.newton_steps, *newton_args)  # loads what the helper compiled
@@ -140,9 +142,11 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
     The lock of :func:`~presag_opt.native.jit.compile_once` is taken here and handed to the helper, which holds it until it
     has written the compiled code to the cache and exits: a ``compile_once`` of the same function
     and types, in this process or another, waits for it and then loads the cache. The block's value
-    says whether a helper was started: not when the function is compiled or cached already, when
-    another process is compiling it, where file locks are not available, or where the machine has one
-    core; the caller then compiles as usual.
+    says whether the function is being compiled in another process: by a helper started here, or by
+    one that held its lock already (a helper started with the command,
+    :mod:`presag_opt.dynamics.batch.first_use`, or another command). No helper is started when the
+    function is compiled or cached already, when another process is compiling it, where file locks
+    are not available, or where the machine has one core.
 
     The helper leaves interrupts to this process and ends with it (:func:`presag_opt.processes.end_with_parent`);
     it prints nothing. Leaving the block waits for it; leaving it by an exception (Ctrl-C, SIGTERM
@@ -157,11 +161,12 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
     *args
         Arguments of the call to compile for (only their numba types matter; they must pickle).
     """
-    helper = None
+    helper, busy = None, False
     if (os.cpu_count() or 1) > 1 and not is_cached(dispatcher, *args):
-        helper = _start_helper(dispatcher, signature(dispatcher, *args))
+        helper = start_helper(dispatcher, signature(dispatcher, *args))
+        busy = helper is None and _locked_elsewhere(dispatcher)
     try:
-        yield helper is not None
+        yield helper is not None or busy
         if helper is not None:
             helper.wait()
     finally:
@@ -170,7 +175,23 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
             helper.wait()
 
 
-def _start_helper(dispatcher: Dispatcher, types_: tuple) -> subprocess.Popen | None:
+def _locked_elsewhere(dispatcher: Dispatcher) -> bool:
+    """Whether another process holds the kernel function's compile lock (taken and released at once
+    if not)."""
+    import fcntl
+
+    handle = lock_file(dispatcher)
+    if handle is None:
+        return False
+    with handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return True
+        return False
+
+
+def start_helper(dispatcher: Dispatcher, types_: tuple) -> subprocess.Popen | None:
     """A helper process compiling ``dispatcher`` for ``types_``, holding its lock (None if the lock
     is held by another process or the helper cannot start)."""
     import fcntl

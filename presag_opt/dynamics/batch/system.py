@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -26,7 +27,9 @@ from presag_opt.dynamics.batch.kernel_data import (
     Runs,
     RunState,
     Scalars,
+    Scratch,
     Shared,
+    Work,
     make_scratch,
     make_work,
 )
@@ -200,6 +203,21 @@ class StaticLine:
         return cls(state, state.positions[disc.cw_nodes, 2].copy(), state.dropper_forces())
 
 
+class KernelArguments(NamedTuple):
+    """What a batch hands the kernel: the C sweeps (or None for numba's), the arrays by name
+    (:mod:`~presag_opt.dynamics.batch.kernel_data`) and the batch's last record."""
+
+    c_sweeps: object
+    scalars: Scalars
+    shared: Shared
+    runs: Runs
+    state: RunState
+    out: Records
+    work: Work
+    scratch: Scratch
+    longest: int
+
+
 def integrate_batch(
     state: EquilibriumState, system: BatchSystem, plans: list[RunPlan], settings: SimulationSettings,
     lines: list[StaticLine] | None = None, progress: Callable[[str], None] | None = None,
@@ -226,6 +244,20 @@ def integrate_batch(
     Records
         The kernel's records, indexed by run in the order of ``plans``.
     """
+    c_sweeps, scalars, shared, runs, run_state, out, work, scratch, longest = kernel_arguments(
+        state, system, plans, settings, lines)
+    compile_kernel(c_sweeps, scalars, shared, runs, run_state, out, work, scratch, progress)
+    kernel.initialise(scalars, shared, runs, run_state, out, scratch)
+    for first in range(1, longest + 1, CHUNK_STEPS):
+        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), c_sweeps, scalars, shared, runs,
+                       run_state, out, work, scratch)
+    return out
+
+
+def kernel_arguments(state: EquilibriumState, system: BatchSystem, plans: list[RunPlan],
+                     settings: SimulationSettings, lines: list[StaticLine] | None = None) -> KernelArguments:
+    """The kernel's arguments for one batch of runs (see :func:`integrate_batch` for the parameters):
+    every array allocated and filled with the runs' initial state, nothing integrated yet."""
     model = system.model
     dt = settings.integrator.time_step
     n = model.n_dofs
@@ -299,14 +331,8 @@ def integrate_batch(
         fail_residual=np.zeros(n_runs),
         iterations=np.zeros(n_runs, dtype=np.int64),
     )
-    scratch = make_scratch(shared)
-    work = make_work(shared, n_runs, lanes)
-    compile_kernel(c_sweeps, system.scalars, shared, runs, run_state, out, work, scratch, progress)
-    kernel.initialise(system.scalars, shared, runs, run_state, out, scratch)
-    for first in range(1, longest + 1, CHUNK_STEPS):
-        kernel.advance(first, min(first + CHUNK_STEPS - 1, longest), c_sweeps, system.scalars, shared, runs,
-                       run_state, out, work, scratch)
-    return out
+    return KernelArguments(c_sweeps, system.scalars, shared, runs, run_state, out, make_work(shared, n_runs, lanes),
+                           make_scratch(shared), longest)
 
 
 def _lower_band(matrix: sp.csc_matrix, order: np.ndarray, bandwidth: int) -> np.ndarray:

@@ -40,13 +40,23 @@ print(json.dumps({
 """
 
 
+AHEAD = """
+from presag_opt.dynamics.batch.first_use import compiling_ahead
+ahead = compiling_ahead()
+assert ahead.__enter__(), "no helper started with the command"
+"""
+"""What a command that simulates does first (``presag report``, ``presag simulate`` of a grid)."""
+
+
 @pytest.mark.slow
-def test_the_first_compilation_compiles_each_kernel_function_once_for_the_types_advance_uses(tmp_path):
+@pytest.mark.parametrize("started", ["at the first batch", "with the command"])
+def test_the_first_compilation_compiles_each_kernel_function_once_for_the_types_advance_uses(tmp_path, started):
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba"), "XDG_CACHE_HOME": str(tmp_path / "xdg")}
     env.pop("PRESAG_NO_COMPILE", None)
     if (os.cpu_count() or 1) < 2:
         pytest.skip("one core: the kernel compiles in one process")
-    ran = subprocess.run([sys.executable, "-c", CHECK], env=env, capture_output=True, text=True, timeout=600,
+    code = CHECK if started == "at the first batch" else AHEAD + CHECK
+    ran = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600,
                          cwd=Path(__file__).parents[3], check=False)
     assert ran.returncode == 0, ran.stderr
     found = json.loads(ran.stdout.splitlines()[-1])
@@ -113,8 +123,10 @@ def test_a_helper_process_compiles_into_the_cache_and_the_caller_loads_it(tmp_pa
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
 def test_no_helper_when_another_process_compiles_or_on_one_core(tmp_path, monkeypatch):
-    """A held compile lock (another process compiling the function) or a one-core machine: no
-    helper, the caller compiles (or waits) as compile_once does."""
+    """A one-core machine: no helper, the caller compiles. A held compile lock (another process
+    compiling the function, e.g. a helper started with the command): no second helper, and the block
+    says the function is being compiled elsewhere (the caller compiles the rest meanwhile and waits
+    for it as compile_once does)."""
     import fcntl
 
     user = _two_files(tmp_path)
@@ -126,8 +138,8 @@ def test_no_helper_when_another_process_compiles_or_on_one_core(tmp_path, monkey
     with jit.lock_file(user.user) as held:
         fcntl.flock(held, fcntl.LOCK_EX)
         with compilation.compiling_elsewhere(user.user, 1.0) as elsewhere:
-            assert not elsewhere
-    assert not jit.is_cached(user.user, 1.0)
+            assert elsewhere
+    assert not jit.is_cached(user.user, 1.0)  # no helper of its own compiled it
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
@@ -138,13 +150,13 @@ def test_an_interrupt_kills_the_helper_and_frees_the_lock(tmp_path, monkeypatch)
     monkeypatch.setattr(compilation, "_HELPER_CODE", "import sys, time; sys.stdin.buffer.read(); time.sleep(600)")
     user = _two_files(tmp_path)
     started = []
-    real_start = compilation._start_helper
+    real_start = compilation.start_helper
 
     def start(*args):
         started.append(real_start(*args))
         return started[-1]
 
-    monkeypatch.setattr(compilation, "_start_helper", start)
+    monkeypatch.setattr(compilation, "start_helper", start)
     with pytest.raises(KeyboardInterrupt), compilation.compiling_elsewhere(user.user, 1.0) as elsewhere:
         assert elsewhere and not _lock_is_free(user.user)  # the helper holds it
         raise KeyboardInterrupt
