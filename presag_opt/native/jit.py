@@ -210,6 +210,18 @@ def lock_file(dispatcher: Dispatcher) -> IO[str] | None:
         return None
 
 
+def try_lock(handle: IO[str]) -> bool:
+    """Take an exclusive lock on an open lock file (:func:`lock_file`) without waiting: True if taken
+    (held until the file is closed), False if another process holds it."""
+    import fcntl
+
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return False
+    return True
+
+
 @contextlib.contextmanager
 def _compile_lock(dispatcher: Dispatcher) -> Iterator[None]:
     """An exclusive lock on the kernel function's lock file (:func:`lock_file`; none without one)."""

@@ -50,7 +50,7 @@ from numba.core.dispatcher import Dispatcher
 from presag_opt import runtime
 from presag_opt.dynamics.batch import kernel
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import compile_once, is_cached, lock_file, signature
+from presag_opt.native.jit import compile_once, is_cached, lock_file, signature, try_lock
 from presag_opt.processes import end_with_parent, interrupts_held
 
 FIRST_USE_NOTE = "compiling the batch kernel for its first use on this installation (about 10-20 s, once)"
@@ -178,31 +178,21 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
 def _locked_elsewhere(dispatcher: Dispatcher) -> bool:
     """Whether another process holds the kernel function's compile lock (taken and released at once
     if not)."""
-    import fcntl
-
     handle = lock_file(dispatcher)
     if handle is None:
         return False
     with handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            return True
-        return False
+        return not try_lock(handle)
 
 
 def start_helper(dispatcher: Dispatcher, types_: tuple) -> subprocess.Popen | None:
     """A helper process compiling ``dispatcher`` for ``types_``, holding its lock (None if the lock
     is held by another process or the helper cannot start)."""
-    import fcntl
-
     handle = lock_file(dispatcher)
     if handle is None:
         return None
     with handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        if not try_lock(handle):
             return None  # another process is compiling it: compile_once waits for that one
         order = pickle.dumps((os.getpid(), [os.path.abspath(p) for p in sys.path],
                               dispatcher.py_func.__module__, dispatcher.py_func.__qualname__, types_))

@@ -93,14 +93,8 @@ def test_a_first_compilation_is_announced_and_uses_a_helper_only_with_compiled_c
 
 def _lock_is_free(dispatcher) -> bool:
     """Whether nobody holds the kernel function's compile lock (taken and released at once if so)."""
-    import fcntl
-
     with jit.lock_file(dispatcher) as handle:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            return False
-        return True
+        return jit.try_lock(handle)
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="file locks of POSIX")
