@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import dataclasses
 from typing import TYPE_CHECKING
 
@@ -92,7 +91,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``presag simulate``: one run in full, or a grid of speeds × static forces in a batch."""
-    from presag_opt.dynamics.batch.first_use import compiling_ahead
     from presag_opt.jobs.simulation import simulate
 
     case = _case(args)
@@ -100,9 +98,8 @@ def simulate_command(args: argparse.Namespace) -> int:
     if not args.allow_supercritical:
         for speed in case.speeds:
             check_speed_limit(speed, case.catenary.contact_wire.wave_speed, accept="--allow-supercritical")
-    runs = len(case.speeds) * len(args.static_force or [case.operation.static_force])
     try:
-        with progress(args) as bar, compiling_ahead() if runs > 1 else contextlib.nullcontext():
+        with progress(args) as bar:
             answer = simulate(case=case, static_force=args.static_force, scheme=args.scheme,
                               time_step_ms=args.time_step, element_length=args.element_length,
                               allow_supercritical=True, announce=announcer(args), progress=bar)

@@ -288,17 +288,20 @@ def simulate(
             for static in {p.settings.static.element_length: p.settings.static for p in plans.values()}.values()]
         for text in filter(None, notices):
             announce(text)
-    states = form_find_states(built.catenary, plans, progress=progress)
     if len(plans) == 1:
+        states = form_find_states(built.catenary, plans, progress=progress)
         (speed, force), plan = next(iter(plans.items()))
         single = dataclasses.replace(built, operation=dataclasses.replace(built.operation, static_force=force))
         run = single.run(speed, state=states[plan.settings.static.element_length], settings=chosen)
         return SimulationAnswer(case=single, run=run)
+    from presag_opt.dynamics.batch.first_use import compiling_ahead
     from presag_opt.dynamics.case_grid import simulate_grid
 
-    if progress:
-        progress(f"simulating {len(plans)} runs")
-    return SimulationAnswer(case=built, grid=simulate_grid(built, plans, states, chosen, progress=progress))
+    with compiling_ahead():  # a grid runs in the batch engine: its first compilation beside the form-findings
+        states = form_find_states(built.catenary, plans, progress=progress)
+        if progress:
+            progress(f"simulating {len(plans)} runs")
+        return SimulationAnswer(case=built, grid=simulate_grid(built, plans, states, chosen, progress=progress))
 
 
 def _settings(base: SimulationSettings, scheme: str | None, time_step_ms: float | None,
