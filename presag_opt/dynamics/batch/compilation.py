@@ -80,7 +80,7 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
         return
     if progress is not None:
         progress(FIRST_USE_NOTE)
-    newton_args = (1, 1, scalars, shared, runs, state, out, work, scratch)
+    newton_args = newton_steps_arguments(scalars, shared, runs, state, out, work, scratch)
     if not runtime.current().compile:
         _held(compile_once, kernel.initialise, *initialise_args)
         _held(compile_once, kernel.advance, *advance_args)
@@ -92,6 +92,13 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
                 _held(function.compile, signature(function, *args))
     _held(compile_once, kernel.newton_steps, *newton_args)  # loads what the helper compiled
     _held(compile_once, kernel.advance, *advance_args)
+
+
+def newton_steps_arguments(scalars, shared, runs, state, out, work, scratch) -> tuple:
+    """The arguments :func:`~presag_opt.dynamics.batch.kernel.advance` calls
+    :func:`~presag_opt.dynamics.batch.kernel.newton_steps` with, as far as their numba types go (a
+    step and an active count are integers, ``1``), for a batch's arrays."""
+    return (1, 1, scalars, shared, runs, state, out, work, scratch)
 
 
 def _held(compile_call: Callable[..., object], *args: object) -> None:
@@ -170,9 +177,15 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
         if helper is not None:
             helper.wait()
     finally:
-        if helper is not None and helper.poll() is None:
-            helper.kill()
-            helper.wait()
+        if helper is not None:
+            stop_helper(helper)
+
+
+def stop_helper(helper: subprocess.Popen) -> None:
+    """Kill a helper that is still compiling, and reap it (a finished one is only reaped)."""
+    if helper.poll() is None:
+        helper.kill()
+    helper.wait()
 
 
 def _locked_elsewhere(dispatcher: Dispatcher) -> bool:

@@ -27,7 +27,7 @@ from collections.abc import Iterator
 
 from presag_opt import runtime
 from presag_opt.dynamics.batch import kernel
-from presag_opt.dynamics.batch.compilation import start_helper
+from presag_opt.dynamics.batch.compilation import newton_steps_arguments, start_helper, stop_helper
 from presag_opt.dynamics.batch.system import BatchSystem, KernelArguments, StaticLine, kernel_arguments
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
 from presag_opt.dynamics.run_plan import plan_run
@@ -59,9 +59,10 @@ def sample_arguments() -> KernelArguments:
 
 def newton_steps_types(arguments: KernelArguments) -> tuple:
     """The numba types :func:`~presag_opt.dynamics.batch.kernel.newton_steps` is compiled for, as a
-    batch with these arguments calls it (a step and an active count are integers)."""
+    batch with these arguments calls it (:func:`~presag_opt.dynamics.batch.compilation.newton_steps_arguments`)."""
     a = arguments
-    return signature(kernel.newton_steps, 1, 1, a.scalars, a.shared, a.runs, a.state, a.out, a.work, a.scratch)
+    return signature(kernel.newton_steps,
+                     *newton_steps_arguments(a.scalars, a.shared, a.runs, a.state, a.out, a.work, a.scratch))
 
 
 @contextlib.contextmanager
@@ -82,9 +83,7 @@ def compiling_ahead() -> Iterator[bool]:
         yield helper is not None
     finally:
         if helper is not None:
-            if helper.poll() is None:
-                helper.kill()
-            helper.wait()
+            stop_helper(helper)
 
 
 __all__ = ["SAMPLE_LENGTH", "compiling_ahead", "newton_steps_types", "sample_arguments"]
