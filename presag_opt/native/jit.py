@@ -153,28 +153,32 @@ def signature(dispatcher: Dispatcher, *args: object) -> tuple:
     return tuple(dispatcher.typeof_pyval(a) for a in args)
 
 
+def _cache_index(dispatcher: Dispatcher) -> dict:
+    """The entries of a kernel function's on-disk cache index for the current sources (empty where
+    there is none or it cannot be read)."""
+    try:
+        return dispatcher._cache._cache_file._load_index()
+    except (AttributeError, OSError):
+        return {}
+
+
 def is_cached(dispatcher: Dispatcher, *args: object) -> bool:
     """Whether a kernel function is compiled for the types of ``args`` in this process or in its
     on-disk cache (read from the cache's index, nothing loaded)."""
     types_ = signature(dispatcher, *args)
     if types_ in dispatcher.overloads:
         return True
-    cache = dispatcher._cache
     try:
-        return cache._index_key(types_, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
-    except (AttributeError, OSError):
+        key = dispatcher._cache._index_key(types_, dispatcher.targetctx.codegen())
+    except AttributeError:
         return False
+    return key in _cache_index(dispatcher)
 
 
 def has_cache_entries(dispatcher: Dispatcher) -> bool:
     """Whether a kernel function is compiled in this process or has any entry, for any types, in its
     on-disk cache for the current sources (read from the cache's index, nothing loaded)."""
-    if dispatcher.overloads:
-        return True
-    try:
-        return bool(dispatcher._cache._cache_file._load_index())
-    except (AttributeError, OSError):
-        return False
+    return bool(dispatcher.overloads) or bool(_cache_index(dispatcher))
 
 
 def compile_once(dispatcher: Dispatcher, *args: object) -> None:
