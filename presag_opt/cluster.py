@@ -52,7 +52,7 @@ def results_on_dask(tasks: Iterable[tuple[Any, tuple]], address: str, job: Any,
                     run: Callable[..., Any]) -> Iterator[tuple[Any, Any]]:
     """Run tasks on a Dask distributed cluster; yield ``(label, result)`` in the order they finish.
 
-    Each task runs ``run(job, runtime, *work)`` on a worker, with the runtime in force here
+    Each task runs ``run(job, *work)`` on a worker, inside the runtime in force here
     (:func:`presag_opt.runtime.current`: a Dask worker is not started by this process, so the
     runtime travels with each task). ``job`` reaches every worker once, through a worker plugin, so
     whatever it keeps serves all the tasks there; a worker that restarts gets it afresh (pickled, as
@@ -67,8 +67,7 @@ def results_on_dask(tasks: Iterable[tuple[Any, tuple]], address: str, job: Any,
     job : object
         Picklable; handed to ``run`` on the worker.
     run : callable
-        ``run(job, runtime, *work)``, importable on the workers; it enters the runtime and calls the
-        job.
+        ``run(job, *work)``, importable on the workers (``operator.call`` calls the job itself).
 
     Yields
     ------
@@ -103,14 +102,15 @@ def results_on_dask(tasks: Iterable[tuple[Any, tuple]], address: str, job: Any,
 
 
 def run_with_job(name: str, run: Callable[..., Any], settings: runtime.Runtime, *work: Any) -> Any:
-    """A Dask task: ``run(job, settings, *work)`` with the job that the plugin ``name`` holds on this
-    worker."""
+    """A Dask task: ``run(job, *work)`` in the runtime ``settings`` of the process that submitted it,
+    with the job that the plugin ``name`` holds on this worker."""
     from distributed import get_worker
 
     plugin = get_worker().plugins.get(name)
     if plugin is None:
         raise ModelError(f"Dask worker has no job {name!r}: it was not registered with the scheduler")
-    return run(plugin.job, settings, *work)
+    with settings:
+        return run(plugin.job, *work)
 
 
 def _worker_plugin_base() -> type:

@@ -41,9 +41,8 @@ class CountingJob:
             return id(self), self.calls, 2.0 * value
 
 
-def run_counting(job: CountingJob, settings: runtime.Runtime, value: float) -> tuple[int, int, float]:
-    with settings:
-        return job(value)
+def run_counting(job: CountingJob, value: float) -> tuple[int, int, float]:
+    return job(value)
 
 
 def scheduler_tasks(address: str) -> int:
@@ -81,7 +80,7 @@ def test_nothing_is_scattered_and_the_plugin_is_gone_after_the_run(cluster):
     assert all(names == [] for names in plugins.values()), plugins
 
 
-def wait_for_gate(job: CountingJob, settings: runtime.Runtime, value: int) -> int:
+def wait_for_gate(job: CountingJob, value: int) -> int:
     """A task that returns once the cluster-wide event ``gate-<value>`` is set (or after 60 s)."""
     distributed.Event(f"gate-{value}").wait(60)
     return value

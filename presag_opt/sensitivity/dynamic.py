@@ -22,6 +22,7 @@ Outputs (:class:`DynamicOutput`):
 from __future__ import annotations
 
 import dataclasses
+import operator
 from collections.abc import Callable, Sequence
 from concurrent.futures import as_completed
 from dataclasses import dataclass
@@ -45,7 +46,7 @@ from presag_opt.studies.store import (
     save_unit,
 )
 from presag_opt.studies.validity_analysis import validity_analysis
-from presag_opt.studies.work import UnitRunner, all_units, run_on_cluster, task_groups
+from presag_opt.studies.work import UnitRunner, all_units, task_groups
 from presag_opt.units import KMH
 
 MOVE_THRESHOLD = 5.0
@@ -237,7 +238,7 @@ def run_definitions(definitions: Sequence[StudyDefinition], *, out: str | Path |
 
     if scheduler is not None:
         for i, unit_results in results_on_dask([(i, (definitions[i], group)) for i, group in tasks], scheduler,
-                                               UnitRunner(), run_on_cluster):
+                                               UnitRunner(), operator.call):
             collect(i, unit_results)
     elif workers == 1 or len(tasks) <= 1:
         runner = UnitRunner()

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from presag_opt import runtime
 from presag_opt.cluster import results_on_dask
 from presag_opt.errors import ModelError, PresagError, failure_reason
 from presag_opt.evaluation_store import Evaluation, EvaluationStore
@@ -169,7 +168,7 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
     batches = [(indices, rows[indices]) for indices in tasks.values()]
     if scheduler is not None:
         for indices, outcomes in results_on_dask([(tuple(indices), (block,)) for indices, block in batches],
-                                                 scheduler, function, evaluate_on_cluster):
+                                                 scheduler, function, evaluate_block):
             finish(list(indices), outcomes)
     elif workers == 1 or len(batches) <= 1:
         for indices, block in batches:
@@ -186,21 +185,4 @@ def evaluate_rows(function: Callable[[np.ndarray], np.ndarray], rows: np.ndarray
     return RowEvaluations(ordered, tuple(value_names))
 
 
-def evaluate_on_cluster(function: Callable[[np.ndarray], np.ndarray], settings: runtime.Runtime,
-                        rows: np.ndarray) -> list[_Outcome]:
-    """A Dask task: :func:`evaluate_block` in the runtime of the process that submitted it.
-
-    Parameters
-    ----------
-    function : callable
-        Maps one row to a 1-D array of outputs.
-    settings : Runtime
-        The runtime of the submitting process.
-    rows : ndarray, shape (n, k)
-        Input values. [SI units of the inputs]
-    """
-    with settings:
-        return evaluate_block(function, rows)
-
-
-__all__ = ["RowEvaluations", "evaluate_block", "evaluate_on_cluster", "evaluate_rows"]
+__all__ = ["RowEvaluations", "evaluate_block", "evaluate_rows"]

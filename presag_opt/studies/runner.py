@@ -12,6 +12,7 @@ command at a time per store (:func:`~presag_opt.studies.store.hold_store`).
 
 from __future__ import annotations
 
+import operator
 import os
 from collections.abc import Callable, Iterator
 from concurrent.futures import as_completed
@@ -40,7 +41,6 @@ from presag_opt.studies.work import (
     UnitRunner,
     WorkUnit,
     all_units,
-    run_on_cluster,
     task_groups,
 )
 
@@ -246,5 +246,5 @@ def _dask_results(definition: StudyDefinition, pending: list[WorkUnit], address:
     """Results of the pending units from a Dask distributed cluster, in the order they finish (a unit
     whose worker dies is run again by the scheduler)."""
     tasks = [(None, (definition, group)) for group in task_groups(pending)]
-    for _, unit_results in results_on_dask(tasks, str(address), UnitRunner(), run_on_cluster):
+    for _, unit_results in results_on_dask(tasks, str(address), UnitRunner(), operator.call):
         yield from unit_results

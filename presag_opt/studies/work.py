@@ -27,7 +27,6 @@ from presag_opt.dynamics.batch import simulate_many
 from presag_opt.dynamics.settings import OperatingPoint
 from presag_opt.errors import ConvergenceError, ModelError, failure_reason
 from presag_opt.processes import WorkerMemo
-from presag_opt.runtime import Runtime
 from presag_opt.speed import speed_ratio
 from presag_opt.static.discretisation import StaticSettings
 from presag_opt.static.equilibrium import EquilibriumState
@@ -204,15 +203,6 @@ class UnitRunner:
 
     def __call__(self, definition: StudyDefinition, units: list[WorkUnit]) -> list[UnitResult]:
         return run_units(definition, units, self.memo)
-
-
-def run_on_cluster(runner: UnitRunner, settings: Runtime, definition: StudyDefinition,
-                   units: list[WorkUnit]) -> list[UnitResult]:
-    """A Dask task: ``runner(definition, units)`` in the runtime of the process that submitted it (a
-    Dask worker is not started by that process, so the runtime travels with each task; each worker
-    holds one runner, so its memo serves all the tasks there: see :func:`presag_opt.cluster.results_on_dask`)."""
-    with settings:
-        return runner(definition, units)
 
 
 def run_units(definition: StudyDefinition, units: list[WorkUnit], memo: WorkerMemo | None = None) -> list[UnitResult]:
