@@ -97,7 +97,18 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
 def newton_steps_arguments(scalars, shared, runs, state, out, work, scratch) -> tuple:
     """The arguments :func:`~presag_opt.dynamics.batch.kernel.advance` calls
     :func:`~presag_opt.dynamics.batch.kernel.newton_steps` with, as far as their numba types go (a
-    step and an active count are integers, ``1``), for a batch's arrays."""
+    step and an active count are integers, ``1``), for a batch's arrays.
+
+    Parameters
+    ----------
+    scalars, shared, runs, state, out, work, scratch : kernel_data tuples
+        The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
+
+    Returns
+    -------
+    tuple
+        ``(step, active, scalars, shared, runs, state, out, work, scratch)``.
+    """
     return (1, 1, scalars, shared, runs, state, out, work, scratch)
 
 
