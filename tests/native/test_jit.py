@@ -85,6 +85,30 @@ def test_a_kernel_part_is_compiled_once_for_literal_and_variable_arguments_and_r
         module.scale(3.0, 2)
 
 
+def test_a_kernel_part_leaves_no_machine_code_and_runs_inside_its_callers(tmp_path):
+    """A part's LLVM code is linked into its callers (here also through another part) and never added to
+    numba's JIT engine: its function has no address there, the caller's has, and the caller computes
+    with it."""
+    (tmp_path / "jit_helper_nested.py").write_text(
+        "from presag_opt.native.jit import kernel_function, kernel_part\n\n"
+        "@kernel_part\ndef inner(x):\n    return 2.0 * x\n\n"
+        "@kernel_part\ndef outer(x):\n    return inner(x) + 1.0\n\n"
+        "@kernel_function\ndef user(x):\n    return 3.0 * outer(x)\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        module = _load(tmp_path / "jit_helper_nested.py", "jit_helper_nested")
+    finally:
+        sys.path.remove(str(tmp_path))
+    assert module.user(1.5) == 12.0
+    engine = module.user.targetctx.codegen()._engine
+    for part in (module.inner, module.outer):
+        (compiled,) = part.overloads.values()
+        assert isinstance(compiled.library, jit.PartLibrary)
+        assert not engine.is_symbol_defined(compiled.fndesc.llvm_func_name)
+    (compiled,) = module.user.overloads.values()
+    assert engine.is_symbol_defined(compiled.fndesc.llvm_func_name)
+
+
 def test_the_kernel_cache_is_written_and_read_back(tmp_path):
     """Compiled once, the function's machine code is in the cache; a fresh dispatcher of the same
     source loads it (a hit, no compilation), and its index is stamped with the dependencies' hash."""
