@@ -7,6 +7,9 @@ The end-to-end check (an edited law takes effect with a warm cache) is
 from __future__ import annotations
 
 import importlib.util
+import json
+import os
+import subprocess
 import sys
 
 import pytest
@@ -107,6 +110,65 @@ def test_a_kernel_part_leaves_no_machine_code_and_runs_inside_its_callers(tmp_pa
         assert not engine.is_symbol_defined(compiled.fndesc.llvm_func_name)
     (compiled,) = module.user.overloads.values()
     assert engine.is_symbol_defined(compiled.fndesc.llvm_func_name)
+
+
+_SHARED = "from presag_opt.native.jit import shared_kernel_function\n\n@shared_kernel_function\ndef heavy(x):\n    return 2.0 * x\n"
+_CALLER = ("from presag_opt.native.jit import kernel_function\nfrom jit_helper_heavy import heavy\n\n"
+           "@kernel_function\ndef caller(x):\n    return heavy(x) + 1.0\n")
+
+
+def test_a_shared_kernel_function_is_called_at_its_address_not_linked_into_its_caller(tmp_path):
+    """The caller's code declares the shared function and calls it; its code is not in the caller's."""
+    (tmp_path / "jit_helper_heavy.py").write_text(_SHARED)
+    (tmp_path / "jit_helper_caller.py").write_text(_CALLER)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        heavy = _load(tmp_path / "jit_helper_heavy.py", "jit_helper_heavy")
+        caller = _load(tmp_path / "jit_helper_caller.py", "jit_helper_caller")
+    finally:
+        sys.path.remove(str(tmp_path))
+    assert caller.caller(1.5) == 4.0
+    (shared,) = heavy.heavy.overloads.values()
+    (compiled,) = caller.caller.overloads.values()
+    functions = {f.name: f.is_declaration for f in compiled.library._final_module.functions}
+    assert functions[shared.fndesc.llvm_func_name]  # declared, not defined
+
+
+_PROCESS = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+order = sys.argv[2].split(",")
+import jit_helper_caller, jit_helper_heavy
+values = {}
+for name in order:
+    if name == "heavy":
+        values[name] = jit_helper_heavy.heavy(1.5)
+    else:
+        values[name] = jit_helper_caller.caller(1.5)
+stats = jit_helper_caller.caller.stats
+print(json.dumps({"values": values, "hits": sum(stats.cache_hits.values()), "misses": sum(stats.cache_misses.values())}))
+"""
+
+
+def test_a_cached_caller_is_compiled_again_when_the_shared_function_it_calls_is_not_loaded(tmp_path):
+    """Each process: a fresh interpreter with the caches of the ones before. The caller's cached code
+    calls the shared function by name; loaded before it, it is a cache hit; loaded alone it is a miss
+    and compiled again (loading it would be a fatal LLVM error that ends the process)."""
+    (tmp_path / "jit_helper_heavy.py").write_text(_SHARED)
+    (tmp_path / "jit_helper_caller.py").write_text(_CALLER)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+
+    def run(order):
+        done = subprocess.run([sys.executable, "-c", _PROCESS, str(tmp_path), order], env=env, capture_output=True,
+                              text=True, timeout=120)
+        assert done.returncode == 0, done.stderr[-2000:]
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+    first = run("caller")
+    assert first["values"] == {"caller": 4.0} and first["misses"] == 1
+    assert run("heavy,caller") == {"values": {"heavy": 3.0, "caller": 4.0}, "hits": 1, "misses": 0}
+    alone = run("caller")
+    assert alone["values"] == {"caller": 4.0} and alone["misses"] == 1 and alone["hits"] == 0
 
 
 def test_the_kernel_cache_is_written_and_read_back(tmp_path):

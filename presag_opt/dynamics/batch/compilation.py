@@ -2,16 +2,16 @@
 
 The kernel's two entry points, :func:`~presag_opt.dynamics.batch.kernel.initialise` and
 :func:`~presag_opt.dynamics.batch.kernel.advance`, are compiled (or loaded from numba's cache)
-before a batch calls them, by :func:`compile_kernel`. Compiled afresh, they take about 19 s of one
-core, more than half of it in :func:`~presag_opt.dynamics.batch.kernel.newton_steps` (each run's
-Newton iteration, which ``advance`` calls; about 11 s), which has a cache entry of its own. So the
+before a batch calls them, by :func:`compile_kernel`. Compiled afresh, they take about 13 s of one
+core, almost half of it in :func:`~presag_opt.dynamics.batch.kernel.newton_steps` (each run's
+Newton iteration, which ``advance`` calls; about 6 s), which has a cache entry of its own. So the
 first compilation is split over two processes: a helper compiles ``newton_steps`` into the cache
 (:func:`compiling_elsewhere`) while this process compiles ``initialise`` and
 the parts ``advance`` calls besides it (the sweeps and the step's bookkeeping,
 :func:`advance_calls`); ``advance`` itself is compiled last, with ``newton_steps`` loaded from the
-cache. The machine code is the same as one process would make (each function is compiled from the
-same source for the same types; a cached function is linked into its callers as numba links it
-when it compiled it in the same process), so the numbers are the same to the last bit.
+cache. ``advance`` calls ``newton_steps``' own machine code (a
+:func:`~presag_opt.native.jit.shared_kernel_function`), wherever it was compiled, so the
+numbers are the same to the last bit; a warm start loads ``newton_steps`` before ``advance``.
 
 Nothing of this runs when ``advance`` is compiled or cached already (the common case: a warm cache
 costs a look at numba's cache index), on a machine with one core, or with compiled code turned off
@@ -26,7 +26,7 @@ exception raised inside such a callback and swallows it. A Ctrl-C or SIGTERM who
 printed a traceback and the command went on (or ended with another error instead of exit 130), as the
 e2e test of a SIGTERM during the first compilation saw. So every compilation and cache load here runs
 with the interrupts held (:func:`presag_opt.processes.interrupts_held`) and delivered when it returns:
-a Ctrl-C waits for the function being compiled (at most the 11 s of ``newton_steps`` where this
+a Ctrl-C waits for the function being compiled (at most the 6 s of ``newton_steps`` where this
 process compiles it, a few seconds otherwise); waiting for the helper is not held.
 
 The types the helper compiles for are those of the batch's own arrays, and :func:`advance_calls`
@@ -73,14 +73,15 @@ def compile_kernel(c_sweeps, scalars, shared, runs, state, out, work, scratch,
     """
     initialise_args = (scalars, shared, runs, state, out, scratch)
     advance_args = (1, 1, c_sweeps, scalars, shared, runs, state, out, work, scratch)
+    newton_args = newton_steps_arguments(scalars, shared, runs, state, out, work, scratch)
     if is_cached(kernel.advance, *advance_args) and is_cached(kernel.initialise, *initialise_args):
         with interrupts_held():  # loading calls back from llvmlite too (see the module notes)
             compile_once(kernel.initialise, *initialise_args)
+            compile_once(kernel.newton_steps, *newton_args)  # advance calls its machine code
             compile_once(kernel.advance, *advance_args)
         return
     if progress is not None:
         progress(FIRST_USE_NOTE)
-    newton_args = newton_steps_arguments(scalars, shared, runs, state, out, work, scratch)
     if not runtime.current().compile:
         _held(compile_once, kernel.initialise, *initialise_args)
         _held(compile_once, kernel.advance, *advance_args)

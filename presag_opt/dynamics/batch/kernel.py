@@ -40,7 +40,7 @@ from presag_opt.dynamics.batch.newton_step import newton_step
 from presag_opt.dynamics.batch.predictor import newmark_predictor
 from presag_opt.dynamics.batch.update import newmark_update
 from presag_opt.native import sweeps as native
-from presag_opt.native.jit import kernel_function, kernel_part
+from presag_opt.native.jit import kernel_function, kernel_part, shared_kernel_function
 
 
 @kernel_function
@@ -235,7 +235,7 @@ def start_step(step, runs, out, work):
     return active
 
 
-@kernel_function
+@shared_kernel_function
 def newton_steps(step, active, scalars, shared, runs, state, out, work, scratch):
     """Each running run's Newton iteration on its nonlinear DOFs (no φ for the others).
 
