@@ -305,20 +305,24 @@ def dynamic_robust_study(
         started -= quasi.wall_time  # the whole study's time includes the quasi-static one, computed before
     quasi_cost = quasi.wall_time
     starts = (quasi.robust_parabola.presag_rel, quasi.nominal.presag_rel)
-    with evaluator:  # one set of worker processes for the search and the tolerance
-        design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
-        tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
     weights = grid.weights
     methods = []
-    for name, presag_rel, cost in ((DELTA_E, starts[1], quasi_cost), (QUASI_STATIC, starts[0], quasi_cost),
-                                   (DYNAMIC, design.presag_rel, quasi_cost + design.wall_time + tolerance.wall_time)):
-        stats = evaluator(presag_rel).statistics
-        losses = stats.losses(objective.loss)
-        methods.append(MethodResult(
-            method=name, presag_rel=presag_rel, objective=objective.value(stats, weights),
-            worst_case=float(losses.max()), mean=float(weights @ losses), uplift_max=float(stats.uplift_max.max()),
-            cost=cost, within_tolerance=bool(tolerance.low <= presag_rel <= tolerance.high and objective.feasible(stats)),
-        ))
+    # one set of worker processes for the search, the tolerance and the methods' own pre-sags (a start the
+    # search moved away from is simulated last, after the tolerance, so it does not shape it)
+    with evaluator:
+        design = dynamic_robust_presag(evaluator, objective, starts=starts, search=search)
+        tolerance = dynamic_tolerance(evaluator, objective, within=within, search=search)
+        for name, presag_rel, cost in ((DELTA_E, starts[1], quasi_cost), (QUASI_STATIC, starts[0], quasi_cost),
+                                       (DYNAMIC, design.presag_rel,
+                                        quasi_cost + design.wall_time + tolerance.wall_time)):
+            stats = evaluator(presag_rel).statistics
+            losses = stats.losses(objective.loss)
+            methods.append(MethodResult(
+                method=name, presag_rel=presag_rel, objective=objective.value(stats, weights),
+                worst_case=float(losses.max()), mean=float(weights @ losses),
+                uplift_max=float(stats.uplift_max.max()), cost=cost,
+                within_tolerance=bool(tolerance.low <= presag_rel <= tolerance.high and objective.feasible(stats)),
+            ))
     return DynamicRobustStudy(
         catenary_name=catenary.name,
         pantograph_name=pantograph.name,

@@ -50,3 +50,51 @@ def test_the_simulated_band_starts_at_50_kmh():
     assert np.isclose(simulated_band(CASE_STUDY_BAND.__class__(
         static_force_low=70.0, static_force_high=140.0, speed_low=60 * KMH, speed_high=90 * KMH,
         aero_coefficient=0.0)).speed_low, 60 * KMH)
+
+
+def test_the_methods_pre_sags_are_simulated_by_the_study_s_workers_after_its_tolerance(monkeypatch):
+    """The study simulates a start the search moved away from (the Δe rule 0.3 mm from the quasi-static
+    design) after its tolerance is read, so that it does not shape it, and inside the evaluator's block,
+    with the study's one set of workers, not a pool of its own afterwards."""
+    import presag_opt.robust.dynamic_study as module
+    from presag_opt.robust.band_evaluation import BandStatistics
+    from presag_opt.system.loader import load_catenary
+
+    events = []
+
+    class Evaluator:
+        def __init__(self, catenary, pantograph, grid, **options):
+            self.grid, self.evaluations, self.runs_used, self.entered = grid, {}, 0, False
+
+        def __enter__(self):
+            self.entered = True
+            return self
+
+        def __exit__(self, *exc):
+            self.entered = False
+            events.append("block ends")
+            return False
+
+        def __call__(self, presag_rel):
+            events.append(("simulated" if self.entered else "simulated after the block", round(presag_rel * SPAN * 1e3, 1)))
+            points = len(self.grid.points())
+            return SimpleNamespace(statistics=BandStatistics(
+                presag_rel=presag_rel, mean_force=np.full(points, 100.0), sigma=np.full(points, 10.0),
+                uplift_max=np.full(points, 0.05)))
+
+    def tolerance(evaluator, objective, **options):
+        events.append("tolerance")
+        return DynamicTolerance(low=28.0e-3 / SPAN, high=56.2e-3 / SPAN, within=0.10, worst_case_min=0.1,
+                                runs_used=0, wall_time=0.0)
+
+    monkeypatch.setattr(module, "BandEvaluator", Evaluator)
+    monkeypatch.setattr(module, "dynamic_robust_presag",
+                        lambda *args, **options: SimpleNamespace(presag_rel=45.1e-3 / SPAN, wall_time=0.0))
+    monkeypatch.setattr(module, "dynamic_tolerance", tolerance)
+    monkeypatch.setattr(module, "band_curve", lambda *args: (np.zeros(1), np.zeros(1), np.zeros(1)))
+    quasi = SimpleNamespace(robust_parabola=SimpleNamespace(presag_rel=55.8e-3 / SPAN),
+                            nominal=SimpleNamespace(presag_rel=56.1e-3 / SPAN), wall_time=1.0)
+    result = module.dynamic_robust_study(load_catenary("st_9.8_ideal"), SimpleNamespace(name="stand-in"),
+                                         simulated_band(CASE_STUDY_BAND), quasi=quasi, workers=2)
+    assert events == ["tolerance", ("simulated", 56.1), ("simulated", 55.8), ("simulated", 45.1), "block ends"]
+    assert [m.presag_rel * SPAN * 1e3 for m in result.methods] == pytest.approx([56.1, 55.8, 45.1], rel=1e-12)
