@@ -26,18 +26,25 @@ def _load(path, name):
     return module
 
 
-def _two_files(tmp_path, body="return 2.0 * x"):
-    (tmp_path / "jit_helper_law.py").write_text(
-        "from presag_opt.native.jit import kernel_part\n\n@kernel_part\ndef law(x):\n    " + body + "\n")
-    (tmp_path / "jit_helper_user.py").write_text(
-        "from presag_opt.native.jit import kernel_function\nfrom jit_helper_law import law\n\n"
-        "@kernel_function\ndef user(x):\n    return law(x) + 1.0\n")
+def _helper_modules(tmp_path, **sources):
+    """Write each source as ``<name>.py`` in ``tmp_path`` and import them in order (they may import the
+    ones before); the modules, in order."""
+    for name, source in sources.items():
+        (tmp_path / f"{name}.py").write_text(source)
     sys.path.insert(0, str(tmp_path))
     try:
-        _load(tmp_path / "jit_helper_law.py", "jit_helper_law")
-        return _load(tmp_path / "jit_helper_user.py", "jit_helper_user")
+        return [_load(tmp_path / f"{name}.py", name) for name in sources]
     finally:
         sys.path.remove(str(tmp_path))
+
+
+def _two_files(tmp_path, body="return 2.0 * x"):
+    _, user = _helper_modules(
+        tmp_path,
+        jit_helper_law="from presag_opt.native.jit import kernel_part\n\n@kernel_part\ndef law(x):\n    " + body + "\n",
+        jit_helper_user=("from presag_opt.native.jit import kernel_function\nfrom jit_helper_law import law\n\n"
+                         "@kernel_function\ndef user(x):\n    return law(x) + 1.0\n"))
+    return user
 
 
 def test_the_dependencies_follow_the_called_numba_functions(tmp_path):
@@ -73,15 +80,10 @@ def test_a_kernel_function_has_its_own_cache_and_numba_is_left_as_it_was(tmp_pat
 def test_a_kernel_part_is_compiled_once_for_literal_and_variable_arguments_and_refuses_python_calls(tmp_path):
     """``law(2.0)`` and ``law(x)`` in a kernel function share one compilation of the part; called from
     Python (it has no Python entry point) it raises instead of crashing."""
-    (tmp_path / "jit_helper_literal.py").write_text(
+    (module,) = _helper_modules(tmp_path, jit_helper_literal=(
         "from presag_opt.native.jit import kernel_function, kernel_part\n\n"
         "@kernel_part\ndef scale(x, k):\n    return k * x\n\n"
-        "@kernel_function\ndef user(x):\n    return scale(x, 2) + scale(x, int(x))\n")
-    sys.path.insert(0, str(tmp_path))
-    try:
-        module = _load(tmp_path / "jit_helper_literal.py", "jit_helper_literal")
-    finally:
-        sys.path.remove(str(tmp_path))
+        "@kernel_function\ndef user(x):\n    return scale(x, 2) + scale(x, int(x))\n"))
     assert module.user(3.0) == 15.0
     assert len(module.scale.signatures) == 1
     with pytest.raises(TypeError, match="part of the compiled kernel"):
@@ -92,16 +94,11 @@ def test_a_kernel_part_leaves_no_machine_code_and_runs_inside_its_callers(tmp_pa
     """A part's LLVM code is linked into its callers (here also through another part) and never added to
     numba's JIT engine: its function has no address there, the caller's has, and the caller computes
     with it."""
-    (tmp_path / "jit_helper_nested.py").write_text(
+    (module,) = _helper_modules(tmp_path, jit_helper_nested=(
         "from presag_opt.native.jit import kernel_function, kernel_part\n\n"
         "@kernel_part\ndef inner(x):\n    return 2.0 * x\n\n"
         "@kernel_part\ndef outer(x):\n    return inner(x) + 1.0\n\n"
-        "@kernel_function\ndef user(x):\n    return 3.0 * outer(x)\n")
-    sys.path.insert(0, str(tmp_path))
-    try:
-        module = _load(tmp_path / "jit_helper_nested.py", "jit_helper_nested")
-    finally:
-        sys.path.remove(str(tmp_path))
+        "@kernel_function\ndef user(x):\n    return 3.0 * outer(x)\n"))
     assert module.user(1.5) == 12.0
     engine = module.user.targetctx.codegen()._engine
     for part in (module.inner, module.outer):
@@ -119,14 +116,7 @@ _CALLER = ("from presag_opt.native.jit import kernel_function\nfrom jit_helper_h
 
 def test_a_shared_kernel_function_is_called_at_its_address_not_linked_into_its_caller(tmp_path):
     """The caller's code declares the shared function and calls it; its code is not in the caller's."""
-    (tmp_path / "jit_helper_heavy.py").write_text(_SHARED)
-    (tmp_path / "jit_helper_caller.py").write_text(_CALLER)
-    sys.path.insert(0, str(tmp_path))
-    try:
-        heavy = _load(tmp_path / "jit_helper_heavy.py", "jit_helper_heavy")
-        caller = _load(tmp_path / "jit_helper_caller.py", "jit_helper_caller")
-    finally:
-        sys.path.remove(str(tmp_path))
+    heavy, caller = _helper_modules(tmp_path, jit_helper_heavy=_SHARED, jit_helper_caller=_CALLER)
     assert caller.caller(1.5) == 4.0
     (shared,) = heavy.heavy.overloads.values()
     (compiled,) = caller.caller.overloads.values()
