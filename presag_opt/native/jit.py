@@ -347,9 +347,11 @@ class PartLibrary(JITCodeLibrary):
     its JIT engine and emit its machine code, and look up the part's Python entry and environment
     there. This library keeps numba's per-function optimisation (which it runs as the part is lowered:
     it keeps what callers link small) and finishes the module linked and verified, but does not
-    optimise it as a module and leaves it out of the engine: no machine code, no address. The callers'
-    machine code is the same code as before, from the same IR optimised at the same level; the numbers
-    are the same to the last bit."""
+    optimise it as a module and leaves it out of the engine: no machine code, no address. A caller
+    optimises the part's code within its own module at the kernel's level, as before, only without a
+    first module-level pass over the part alone; no pass reorders floating-point operations, and the
+    batch's results are the same to the last bit. A part that reads numba's environment (Python objects
+    at run time) is refused: it would have none inside its callers."""
 
     def _optimize_final_module(self) -> None:
         """Nothing: each caller optimises the part's code as part of its own module."""
@@ -357,6 +359,10 @@ class PartLibrary(JITCodeLibrary):
     def _finalize_final_module(self) -> None:
         self._finalize_dynamic_globals()
         self._verify_declare_only_symbols()
+        text = str(self._final_module)
+        if any("@_ZN08NumbaEnv" in line for line in text.splitlines() if not line.startswith("@")):
+            raise TypeError(f"the kernel part {self.name} reads numba's environment (Python objects at run time, "
+                            "e.g. print): a part has none inside its callers; make it a kernel_function")
         self._finalized = True
 
     def get_pointer_to_function(self, name: str) -> int:
@@ -379,7 +385,8 @@ class _PartCodegen:
         self._inner = inner
 
     def set_env(self, env_name: str, env: object) -> None:
-        """Nothing to set: the part's code runs inside its callers', with their environment."""
+        """Nothing to set: a part does not read its environment (:class:`PartLibrary` refuses one that
+        does)."""
 
     def __getattr__(self, name: str) -> object:
         return getattr(self._inner, name)

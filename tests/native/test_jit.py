@@ -109,6 +109,17 @@ def test_a_kernel_part_leaves_no_machine_code_and_runs_inside_its_callers(tmp_pa
     assert engine.is_symbol_defined(compiled.fndesc.llvm_func_name)
 
 
+def test_a_kernel_part_that_reads_numba_s_environment_is_refused_when_compiled(tmp_path):
+    """``print`` needs numba's environment at run time, which a part inlined into its callers does not
+    have: the compilation says so instead of the call failing later with numba's "missing Environment"."""
+    (module,) = _helper_modules(tmp_path, jit_helper_noisy=(
+        "from presag_opt.native.jit import kernel_function, kernel_part\n\n"
+        "@kernel_part\ndef noisy(x):\n    print(x)\n    return x\n\n"
+        "@kernel_function\ndef user(x):\n    return noisy(x) + 1.0\n"))
+    with pytest.raises(Exception, match="reads numba's environment"):
+        module.user(2.0)
+
+
 _SHARED = "from presag_opt.native.jit import shared_kernel_function\n\n@shared_kernel_function\ndef heavy(x):\n    return 2.0 * x\n"
 _CALLER = ("from presag_opt.native.jit import kernel_function\nfrom jit_helper_heavy import heavy\n\n"
            "@kernel_function\ndef caller(x):\n    return heavy(x) + 1.0\n")
