@@ -181,7 +181,7 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
         Arguments of the call to compile for (only their numba types matter; they must pickle).
     """
     helper, busy = None, False
-    if (os.cpu_count() or 1) > 1 and not is_cached(dispatcher, *args):
+    if spare_core() and not is_cached(dispatcher, *args):
         helper = start_helper(dispatcher, signature(dispatcher, *args))
         busy = helper is None and _locked_elsewhere(dispatcher)
     try:
@@ -191,6 +191,11 @@ def compiling_elsewhere(dispatcher: Dispatcher, *args: object) -> Iterator[bool]
     finally:
         if helper is not None:
             stop_helper(helper)
+
+
+def spare_core() -> bool:
+    """Whether a compile helper would have a core of its own: the machine has more than one."""
+    return (os.cpu_count() or 1) > 1
 
 
 def stop_helper(helper: subprocess.Popen) -> None:

@@ -22,12 +22,11 @@ runtime.
 from __future__ import annotations
 
 import contextlib
-import os
 from collections.abc import Iterator
 
 from presag_opt import runtime
 from presag_opt.dynamics.batch import kernel
-from presag_opt.dynamics.batch.compilation import newton_steps_arguments, start_helper, stop_helper
+from presag_opt.dynamics.batch.compilation import newton_steps_arguments, spare_core, start_helper, stop_helper
 from presag_opt.dynamics.batch.system import BatchSystem, KernelArguments, StaticLine, kernel_arguments
 from presag_opt.dynamics.pantograph import Pantograph, PantographStage
 from presag_opt.dynamics.run_plan import plan_run
@@ -76,8 +75,7 @@ def compiling_ahead() -> Iterator[bool]:
     value says whether a helper was started.
     """
     helper = None
-    if (runtime.current().compile and (os.cpu_count() or 1) > 1
-            and not has_cache_entries(kernel.newton_steps)):
+    if runtime.current().compile and spare_core() and not has_cache_entries(kernel.newton_steps):
         helper = start_helper(kernel.newton_steps, newton_steps_types(sample_arguments()))
     try:
         yield helper is not None
