@@ -62,6 +62,22 @@ reorders floating-point operations (numba compiles without fast-math, and LLVM k
 Part of every kernel function's cache key, so a cache compiled at another level is compiled again."""
 
 
+PART_OPTIONS = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True, "_nrt": False}
+"""numba's options for a :func:`kernel_part`: no Python entry point, no C wrapper, and no reference
+counting (numba's runtime, NRT, off). Part of every kernel function's cache key.
+
+Without the runtime a part takes its arrays as borrowed from the kernel function that calls it, which
+holds them for the whole call: numba emits no reference count changes for them and no allocation.
+With it, every call of a part counted a reference up and down for each array of each named tuple it
+takes (``shared`` alone holds 25), whether the part reads it or not, with an atomic instruction each,
+and the parts allocated their small arrays per run and step: about 10 % of a batch's time
+(``perf`` on the case-study decision's 12-run batch), where the atomic operations stood as the two
+hottest instructions outside the sweeps. A part that allocates an array (``np.empty``, ``np.eye``,
+``.copy()``) or returns one it did not receive does not compile (numba's typing error: no
+implementation of ``np.empty`` without its runtime); its arrays belong in
+:class:`~presag_opt.dynamics.batch.kernel_data.Scratch`, allocated once per batch."""
+
+
 @contextlib.contextmanager
 def kernel_optimisation() -> Iterator[None]:
     """numba's optimisation level set to :data:`KERNEL_OPTIMISATION` while the block compiles (numba
@@ -104,9 +120,9 @@ def _file_digest(path: str, mtime: float, size: int) -> bytes:
 
 
 def source_stamp(function: Callable) -> str:
-    """Hash of the contents of :func:`dependency_files` and of :data:`KERNEL_OPTIMISATION` (the key a
-    cached compilation is valid for)."""
-    digest = hashlib.sha256(f"LLVM optimisation {KERNEL_OPTIMISATION}".encode())
+    """Hash of the contents of :func:`dependency_files`, of :data:`KERNEL_OPTIMISATION` and of
+    :data:`PART_OPTIONS` (the key a cached compilation is valid for)."""
+    digest = hashlib.sha256(f"LLVM optimisation {KERNEL_OPTIMISATION}; parts {sorted(PART_OPTIONS.items())}".encode())
     for path in dependency_files(function):
         status = os.stat(path)
         digest.update(os.path.basename(path).encode() + b"\0" + _file_digest(path, status.st_mtime, status.st_size))
@@ -342,7 +358,7 @@ class PartLibrary(JITCodeLibrary):
     """numba's code library of a kernel part: LLVM code to link into callers, no machine code.
 
     A part is only ever linked into its callers' modules (numba links a callee's LLVM module into each
-    caller's, where LLVM optimises it with the caller and inlines it), so its own optimised module and
+    caller's, where LLVM optimises it with the caller and inlines the small ones), so its own optimised module and
     machine code were work for nothing: numba would optimise the part's module as a whole, add it to
     its JIT engine and emit its machine code, and look up the part's Python entry and environment
     there. This library keeps numba's per-function optimisation (which it runs as the part is lowered:
@@ -407,13 +423,15 @@ def kernel_part(function: Callable, python_call: Callable | None = None) -> Disp
     """A plain-Python function compiled as a part of the kernel functions that call it.
 
     Compiled once per argument types (literal constants counted as their type) and linked into its
-    callers, where LLVM inlines it: no Python entry point and no C wrapper is built for it (those
-    were a third of the kernel's compile time), and neither machine code nor a module-level
-    optimisation of its own (:class:`PartLibrary`: the kernel's cold compile about 10 % shorter). Called from Python it runs ``python_call``, the same
-    computation for Python (for a part that numba alone can run), or, without one, raises TypeError.
+    callers, where LLVM optimises it with them: no Python entry point and no C wrapper is built for it
+    (those were a third of the kernel's compile time), and neither machine code nor a module-level
+    optimisation of its own (:class:`PartLibrary`: the kernel's cold compile about 10 % shorter). A
+    part counts no references and allocates nothing (:data:`PART_OPTIONS`: a batch about 14 % faster).
+    Called from Python it runs ``python_call``, the same computation for Python (for a part that numba
+    alone can run), or, without one, raises TypeError.
     Not cached on its own: its callers' caches cover its file. Under ``NUMBA_DISABLE_JIT`` it is
     ``python_call`` or the function as written."""
-    dispatcher = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, pipeline_class=PartCompiler)(function)
+    dispatcher = njit(**PART_OPTIONS, pipeline_class=PartCompiler)(function)
     if not isinstance(dispatcher, CPUDispatcher):
         return python_call or dispatcher
     dispatcher.__class__ = KernelPart

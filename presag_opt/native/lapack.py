@@ -28,16 +28,19 @@ _dgesv = types.ExternalFunction(_SYMBOL, types.void(*([types.voidptr] * 8)))
 """dgesv(n, nrhs, a, lda, ipiv, b, ldb, info), every argument by address (Fortran convention)."""
 
 
-def _solve_in_python(matrix: np.ndarray, rhs: np.ndarray) -> int:
-    """:func:`solve_by_columns` called from Python: the same routine through SciPy's wrapper."""
+def _solve_in_python(matrix: np.ndarray, rhs: np.ndarray, pivots: np.ndarray | None = None,
+                     integers: np.ndarray | None = None) -> int:
+    """:func:`solve_by_columns` called from Python: the same routine through SciPy's wrapper (which
+    keeps its own pivots)."""
     *_, x, info = scipy.linalg.lapack.dgesv(matrix.T, rhs, overwrite_a=True)  # matrix.T: A in Fortran order
     rhs[:] = x
     return int(info)
 
 
-def _solve_by_columns(matrix, rhs):
+def _solve_by_columns(matrix, rhs, pivots, integers):
     """Solve A x = b in place with LAPACK's dgesv (LU with partial pivoting); returns LAPACK's
-    ``info``: 0 solved, > 0 A is singular (``rhs`` then holds no solution).
+    ``info``: 0 solved, > 0 A is singular (``rhs`` then holds no solution). Allocates nothing: the
+    pivots and the routine's integer arguments are the caller's arrays.
 
     Parameters
     ----------
@@ -45,12 +48,13 @@ def _solve_by_columns(matrix, rhs):
         A stored by columns: ``matrix[m, i]`` is A[i, m]; overwritten by its LU factors. [unit of A]
     rhs : ndarray, shape (n,)
         b on entry, x on return. [unit of b]
+    pivots : ndarray of int32, shape (n,) or longer
+        Receives the row interchanges. [-]
+    integers : ndarray of int32, shape (3,)
+        Receives the order n, the number of right-hand sides (1) and LAPACK's ``info``. [-]
     """
-    n = rhs.shape[0]
-    order = np.full(1, n, np.int32)
-    one = np.ones(1, np.int32)
-    info = np.zeros(1, np.int32)
-    pivots = np.empty(n, np.int32)
+    order, one, info = integers[0:1], integers[1:2], integers[2:3]
+    order[0], one[0], info[0] = rhs.shape[0], 1, 0
     _dgesv(order.ctypes, one.ctypes, matrix.ctypes, order.ctypes, pivots.ctypes, rhs.ctypes, order.ctypes, info.ctypes)
     return info[0]
 

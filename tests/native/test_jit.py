@@ -12,6 +12,8 @@ import os
 import subprocess
 import sys
 
+import numba
+import numpy as np
 import pytest
 from numba.core import caching
 
@@ -117,6 +119,41 @@ def test_a_kernel_part_that_reads_numba_s_environment_is_refused_when_compiled(t
         "@kernel_part\ndef noisy(x):\n    print(x)\n    return x\n\n"
         "@kernel_function\ndef user(x):\n    return noisy(x) + 1.0\n"))
     with pytest.raises(Exception, match="reads numba's environment"):
+        module.user(2.0)
+
+
+_COUNTING = ("from numba import njit\nfrom presag_opt.native import jit\n\n"
+             "@jit.kernel_part\ndef product(x, y):\n    return x * y\n\n"
+             "def total(arrays, n):\n    a, b, c = arrays\n    acc = 0.0\n    for i in range(n):\n"
+             "        if a[i] < 0.0:\n            return -1.0\n        acc += a[i] + product(b[i], c[i])\n    return acc\n\n"
+             "part = jit.kernel_part(total)\n"
+             "counting = njit(**{**jit.PART_OPTIONS, '_nrt': True}, pipeline_class=jit.PartCompiler)(total)\n\n"
+             "@jit.kernel_function\ndef user(arrays, n):\n    return part(arrays, n) + 1.0\n\n"
+             "@jit.kernel_function\ndef counting_user(arrays, n):\n    return counting(arrays, n) + 1.0\n")
+
+
+def test_a_kernel_part_counts_no_references_to_the_arrays_it_takes(tmp_path):
+    """The same function compiled as a part and as a part with numba's runtime on (as parts were
+    compiled before), each called from a kernel function with a tuple of arrays: with the runtime
+    its code counts references to the tuple's arrays up and down around a call of another part (which
+    numba's pruning of reference counts cannot see through); the part has no reference count
+    operation, and computes the same."""
+    (module,) = _helper_modules(tmp_path, jit_helper_counting=_COUNTING)
+    arrays = tuple(np.arange(5.0) + k for k in range(3))
+    assert module.user(arrays, 5) == module.counting_user(arrays, 5) == sum(a + b * c for a, b, c in zip(*arrays)) + 1.0
+    (part,) = module.part.overloads.values()
+    (counting,) = module.counting.overloads.values()
+    assert "NRT_incref" not in str(part.library._final_module)
+    assert "call void @NRT_incref" in str(counting.library._final_module)
+
+
+def test_a_kernel_part_that_allocates_an_array_does_not_compile(tmp_path):
+    """A part has no runtime to allocate with: its arrays come from the kernel's scratch arrays."""
+    (module,) = _helper_modules(tmp_path, jit_helper_allocating=(
+        "import numpy as np\nfrom presag_opt.native.jit import kernel_function, kernel_part\n\n"
+        "@kernel_part\ndef allocating(x):\n    a = np.empty(3)\n    a[:] = x\n    return a.sum()\n\n"
+        "@kernel_function\ndef user(x):\n    return allocating(x) + 1.0\n"))
+    with pytest.raises(numba.core.errors.TypingError, match="empty"):
         module.user(2.0)
 
 

@@ -13,7 +13,8 @@ from presag_opt.native.lapack import solve_by_columns
 def _direct(matrix, rhs):
     by_columns = np.ascontiguousarray(matrix.T)
     x = rhs.copy()
-    info = solve_by_columns(by_columns, x)
+    pivots, integers = np.full(x.shape[0] + 2, -7, np.int32), np.full(3, -7, np.int32)  # longer, and not zeroed
+    info = solve_by_columns(by_columns, x, pivots, integers)
     return x, info
 
 

@@ -175,6 +175,27 @@ class Work(NamedTuple):
     phi_coefficient: np.ndarray
 
 
+class PantographStep(NamedTuple):
+    """One run's pantograph quantities of a step: predictors ũ [m], ṽ [m/s]; right-hand side α r_n
+    plus the uplift on the heads, C ṽ + K ũ, g = rhs − s (C ṽ + K ũ) [N]; δ_lin = K_eff⁻¹ g [m]."""
+
+    u_pred: np.ndarray
+    v_pred: np.ndarray
+    rhs: np.ndarray
+    linear: np.ndarray
+    g: np.ndarray
+    delta_lin: np.ndarray
+
+
+class DropperStep(NamedTuple):
+    """One run's dropper stretches of a step: at the predictor [m], its rate [m/s], and the stretch
+    δ_lin adds [m]."""
+
+    stretch: np.ndarray
+    rate: np.ndarray
+    linear: np.ndarray
+
+
 class Scratch(NamedTuple):
     """Scratch arrays of one run's Newton iteration, allocated once per batch: the nonlinear set
     (``set_dofs``, forces ``set_force`` [N], dense ``tangent`` [N/m], each DOF's ``position`` in the
@@ -182,7 +203,11 @@ class Scratch(NamedTuple):
     ``piece_force`` [N] and tangent ``piece_tangent`` [N/m] of one contribution (up to six DOFs); the
     full displacement ``u_of`` [m] and velocity ``v_of`` [m/s] at the DOFs the forces read; each
     dropper's ``stretch`` [m] and ``rate`` [m/s]; the current φ (``phi_dofs``, ``phi`` [N]) and the
-    ``residual`` on the set [N]."""
+    ``residual`` on the set [N]; the run's :class:`PantographStep` and :class:`DropperStep` of the
+    step (``pantograph``, ``droppers``); the Woodbury correction's target x_S (``target`` [m]) and
+    solution (``correction`` [N]), its capacitance matrix (``capacitance``, by columns, the leading
+    count² entries used [-]) and LAPACK's ``pivots`` and integer arguments (``lapack_integers``: the
+    order, one, info). The kernel's parts allocate nothing: every array they fill is one of these."""
 
     set_dofs: np.ndarray
     set_force: np.ndarray
@@ -199,6 +224,13 @@ class Scratch(NamedTuple):
     phi_dofs: np.ndarray
     phi: np.ndarray
     residual: np.ndarray
+    pantograph: PantographStep
+    droppers: DropperStep
+    target: np.ndarray
+    correction: np.ndarray
+    capacitance: np.ndarray
+    pivots: np.ndarray
+    lapack_integers: np.ndarray
 
 
 def set_size(shared: Shared) -> int:
@@ -229,6 +261,13 @@ def make_scratch(shared: Shared) -> Scratch:
         phi_dofs=np.empty(size, dtype=np.int64),
         phi=np.empty(size),
         residual=np.empty(size),
+        pantograph=PantographStep(*(np.empty(n_p) for _ in PantographStep._fields)),
+        droppers=DropperStep(*(np.empty(n_d) for _ in DropperStep._fields)),
+        target=np.empty(size),
+        correction=np.empty(size),
+        capacitance=np.empty(size * size),
+        pivots=np.empty(size, dtype=np.int32),
+        lapack_integers=np.empty(3, dtype=np.int32),
     )
 
 

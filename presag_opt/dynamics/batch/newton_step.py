@@ -48,8 +48,9 @@ def newton_step(b, step, scalars, shared, runs, state, out, work, scratch):
         The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     s, a1 = scalars.scheme.s, scalars.scheme.a1
-    pan = pantograph_predictor(b, scalars, shared, runs, state)
-    drop = predictor_state(b, step, shared, runs, state, work, scratch, pan)
+    pan, drop = scratch.pantograph, scratch.droppers
+    pantograph_predictor(b, scalars, shared, runs, state, scratch)
+    predictor_state(b, step, shared, runs, state, work, scratch, pan)
     count, slack = nonlinear_forces(b, step, a1, scalars, shared, runs, scratch)
     largest_term, largest = residual_at_predictor(b, s, shared, state, work, scratch, pan)
     limit = scalars.tolerance * largest_term

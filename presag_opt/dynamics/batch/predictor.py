@@ -1,20 +1,17 @@
 """The start of one batch run's Newton step: its pantographs, droppers and residual at the predictor (numba).
 
-Once the sweeps of :mod:`presag_opt.dynamics.batch.kernel` have formed every run's linear solution δ_lin
-on the catenary, :func:`~presag_opt.dynamics.batch.newton_step.newton_step` starts each run's step here:
-the pantographs' predictors, right-hand side and δ_lin (:func:`pantograph_predictor`, a
-:class:`PantographStep`), the droppers' stretch at the predictor and the stretch δ_lin adds, with
-the contact nodes and pantograph DOFs at the predictor (:func:`predictor_state`, a
-:class:`DropperStep`), and the integrator's force scale and largest residual there
-(:func:`residual_at_predictor`). The arrays are the named tuples of
-:mod:`presag_opt.dynamics.batch.kernel_data`.
+Once the sweeps of :mod:`presag_opt.dynamics.batch.kernel` have formed every run's linear solution
+δ_lin on the catenary, :func:`~presag_opt.dynamics.batch.newton_step.newton_step` starts each run's
+step here: the pantographs' predictors, right-hand side and δ_lin (:func:`pantograph_predictor`), the
+droppers' stretch at the predictor and the stretch δ_lin adds, with the contact nodes and pantograph
+DOFs at the predictor (:func:`predictor_state`), and the integrator's force scale and largest
+residual there (:func:`residual_at_predictor`). The arrays are the named tuples of
+:mod:`presag_opt.dynamics.batch.kernel_data`; the first two fill the run's
+:class:`~presag_opt.dynamics.batch.kernel_data.PantographStep` and
+:class:`~presag_opt.dynamics.batch.kernel_data.DropperStep` in its scratch arrays.
 """
 
 from __future__ import annotations
-
-from typing import NamedTuple
-
-import numpy as np
 
 from presag_opt.dynamics import assembly
 from presag_opt.native.jit import kernel_part
@@ -22,37 +19,16 @@ from presag_opt.native.jit import kernel_part
 newmark_predictor = kernel_part(assembly.newmark_predictor)
 
 
-class PantographStep(NamedTuple):
-    """One run's pantograph quantities of a step: predictors ũ [m], ṽ [m/s]; right-hand side α r_n
-    plus the uplift on the heads, C ṽ + K ũ, g = rhs − s (C ṽ + K ũ) [N]; δ_lin = K_eff⁻¹ g [m]."""
-
-    u_pred: np.ndarray
-    v_pred: np.ndarray
-    rhs: np.ndarray
-    linear: np.ndarray
-    g: np.ndarray
-    delta_lin: np.ndarray
-
-
-class DropperStep(NamedTuple):
-    """One run's dropper stretches of a step: at the predictor [m], its rate [m/s], and the stretch
-    δ_lin adds [m]."""
-
-    stretch: np.ndarray
-    rate: np.ndarray
-    linear: np.ndarray
-
-
 @kernel_part
-def pantograph_predictor(b, scalars, shared, runs, state):
+def pantograph_predictor(b, scalars, shared, runs, state, scratch):
     """Run ``b``'s pantograph predictors, right-hand side (uplift on the heads), C ṽ + K ũ, g and
-    δ_lin (a :class:`PantographStep`).
+    δ_lin, into ``scratch.pantograph`` (a :class:`~presag_opt.dynamics.batch.kernel_data.PantographStep`).
 
     Parameters
     ----------
     b : int
         Run, the column of the batch arrays. [-]
-    scalars, shared, runs, state : kernel_data tuples
+    scalars, shared, runs, state, scratch : kernel_data tuples
         The batch's arrays by name (:mod:`~presag_opt.dynamics.batch.kernel_data`).
     """
     c = scalars.scheme
@@ -61,8 +37,7 @@ def pantograph_predictor(b, scalars, shared, runs, state):
     pantograph_u, pv, pa, pantograph_r = state.pantograph_u, state.pantograph_v, state.pantograph_a, state.pantograph_r
     n = shared.mass.shape[0]
     n_p = shared.pantograph_mass.shape[0]
-    u_pred, v_pred, rhs, linear, g, delta_lin = (np.empty(n_p), np.empty(n_p), np.empty(n_p), np.empty(n_p),
-                                                 np.empty(n_p), np.empty(n_p))
+    u_pred, v_pred, rhs, linear, g, delta_lin = scratch.pantograph
     for i in range(n_p):
         u_pred[i], v_pred[i] = newmark_predictor(pantograph_u[i, b], pv[i, b], pa[i, b], c)
     for i in range(n_p):
@@ -80,13 +55,12 @@ def pantograph_predictor(b, scalars, shared, runs, state):
         for k in range(n_p):
             acc += inverse[i, k] * g[k]
         delta_lin[i] = acc
-    return PantographStep(u_pred, v_pred, rhs, linear, g, delta_lin)
 
 
 @kernel_part
 def predictor_state(b, step, shared, runs, state, work, scratch, pan):
-    """Run ``b``'s droppers at the predictor (a :class:`DropperStep`; ``scratch.stretch`` and
-    ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
+    """Run ``b``'s droppers at the predictor (into ``scratch.droppers``, a :class:`~presag_opt.dynamics.batch.kernel_data.DropperStep`;
+    ``scratch.stretch`` and ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
 
     Parameters
     ----------
@@ -102,7 +76,7 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     u_of, v_of, stretch, rate = scratch.u_of, scratch.v_of, scratch.stretch, scratch.rate
     n = shared.mass.shape[0]
     n_d = dropper_dofs.shape[0]
-    base_stretch, base_rate, linear_stretch = np.empty(n_d), np.empty(n_d), np.empty(n_d)
+    base_stretch, base_rate, linear_stretch = scratch.droppers
     for d in range(n_d):
         su = 0.0
         sv = 0.0
@@ -127,7 +101,6 @@ def predictor_state(b, step, shared, runs, state, work, scratch, pan):
     for i in range(p_pred.shape[0]):
         u_of[n + i] = p_pred[i]
         v_of[n + i] = pv_pred[i]
-    return DropperStep(base_stretch, base_rate, linear_stretch)
 
 
 @kernel_part

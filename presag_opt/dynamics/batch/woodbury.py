@@ -62,7 +62,7 @@ def influence(j, m, n, column_of, columns, pantograph_inverse):
 @kernel_part
 def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     """x_S = (δ_lin − s Z f)_S − δ_S on the set, with δ = δ_lin − s Z φ the current iterate (δ = 0
-    before the first correction). [m]
+    before the first correction), into ``scratch.target``. [m]
 
     Parameters
     ----------
@@ -85,7 +85,7 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
     set_dofs, set_force, phi_dofs, phi = scratch.set_dofs, scratch.set_force, scratch.phi_dofs, scratch.phi
     delta, delta_lin = work.delta, pan.delta_lin
     n = shared.mass.shape[0]
-    x = np.empty(count)
+    x = scratch.target
     for i in range(count):
         j = set_dofs[i]
         lin = delta[j, b] if j < n else delta_lin[j - n]
@@ -98,7 +98,6 @@ def woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan):
                 current -= s * influence(j, phi_dofs[k], n, column_of, columns, pantograph_inverse) * phi[k]
             acc -= current
         x[i] = acc
-    return x
 
 
 @kernel_part
@@ -129,9 +128,14 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     set_dofs, set_force, tangent, position = scratch.set_dofs, scratch.set_force, scratch.tangent, scratch.position
     phi_dofs, phi = scratch.phi_dofs, scratch.phi
     n = shared.mass.shape[0]
-    x = woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan)
-    capacitance = np.eye(count)  # by columns, as LAPACK takes it: capacitance[m, i] is entry (i, m)
-    y = np.zeros(count)
+    woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan)
+    x, y = scratch.target, scratch.correction
+    capacitance = scratch.capacitance[:count * count].reshape((count, count))  # by columns, as LAPACK takes
+    for i in range(count):  # it: capacitance[m, i] is entry (i, m); I to start
+        y[i] = 0.0
+        for m in range(count):
+            capacitance[m, i] = 0.0
+        capacitance[i, i] = 1.0
     for i in range(count):
         for k in range(count):
             t = s * tangent[i, k]
@@ -140,8 +144,8 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
                 for m in range(count):
                     capacitance[m, i] += t * influence(set_dofs[k], set_dofs[m], n, column_of, columns,
                                                        pantograph_inverse)
-    if solve_by_columns(capacitance, y) != 0:
-        y[:] = np.nan  # singular: the run stops on its non-finite residual
+    if solve_by_columns(capacitance, y[:count], scratch.pivots, scratch.lapack_integers) != 0:
+        y[:count] = np.nan  # singular: the run stops on its non-finite residual
     for i in range(count):
         phi_dofs[i] = set_dofs[i]
         phi[i] = set_force[i] + y[i] / s

@@ -8,7 +8,8 @@ import numpy as np
 def test_the_pantograph_predictor_is_the_newmark_predictor(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     c, st, sh = batch.scalars.scheme, batch.state, batch.shared
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
     pu, pv, pa = st.pantograph_u[:, 0], st.pantograph_v[:, 0], st.pantograph_a[:, 0]
     np.testing.assert_allclose(pan.u_pred, pu + c.time_step * pv + c.displacement_predictor * pa, rtol=1e-14)
     np.testing.assert_allclose(pan.v_pred, pv + c.velocity_predictor * pa, rtol=1e-14)
@@ -23,8 +24,10 @@ def test_the_pantograph_predictor_is_the_newmark_predictor(plain_parts, syntheti
 def test_the_state_at_the_predictor(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sh, st, sc = batch.shared, batch.state, batch.scratch
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
-    drop = plain_parts.predictor.predictor_state(0, 1, sh, batch.runs, st, batch.work, sc, pan)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
+    plain_parts.predictor.predictor_state(0, 1, sh, batch.runs, st, batch.work, sc, pan)
+    drop = sc.droppers  # filled in place
     g = sh.dropper_gradient[0]
     np.testing.assert_allclose(drop.stretch, [g @ st.u[:, 0]], rtol=1e-13)
     np.testing.assert_allclose(drop.rate, [g @ st.v[:, 0]], rtol=1e-13)
@@ -40,7 +43,8 @@ def test_the_residual_at_the_predictor_completes_the_sweeps(plain_parts, synthet
     sweeps' values on the other rows."""
     batch = synthetic_batch()
     sh, st, sc, w = batch.shared, batch.state, batch.scratch, batch.work
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
     s = batch.scalars.scheme.s
     w.linear[:, 0] = np.linspace(-30.0, 40.0, batch.n)
     w.scale[0], w.first_residual[0] = 5.0, 1.0

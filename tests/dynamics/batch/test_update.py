@@ -15,8 +15,10 @@ def _with_phi(batch, dofs, phi):
 def test_the_iterate_where_the_forces_read_it(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sh, st, sc, w = batch.shared, batch.state, batch.scratch, batch.work
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
-    drop = plain_parts.predictor.predictor_state(0, 1, sh, batch.runs, st, w, sc, pan)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
+    plain_parts.predictor.predictor_state(0, 1, sh, batch.runs, st, w, sc, pan)
+    drop = sc.droppers  # filled in place
     n_phi = _with_phi(batch, [2, 6], [30.0, -20.0])
     plain_parts.update.iterate_kinematics(0, 1, n_phi, batch.scalars, sh, batch.runs, st, w, sc, pan, drop)
     s, a1 = batch.scalars.scheme.s, batch.scalars.scheme.a1
@@ -50,7 +52,8 @@ def test_the_end_of_the_step(plain_parts, synthetic_batch):
     batch = synthetic_batch()
     sh, st, sc, w, out = batch.shared, batch.state, batch.scratch, batch.work, batch.out
     c = batch.scalars.scheme
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
     delta_lin_p = pan.delta_lin.copy()
     n_phi = _with_phi(batch, [4, 7], [10.0, 5.0])
     sc.position[:] = -1
@@ -77,7 +80,8 @@ def test_a_run_converged_at_its_predictor_takes_sweep_ones_c_v_plus_k_u_as_its_r
     sh, st, w, sc, c = batch.shared, batch.state, batch.work, batch.scratch, batch.scalars.scheme
     w.linear[:, 0] = np.linspace(-30.0, 40.0, batch.n)
     sc.set_force[:2] = [12.0, -3.0]
-    pan = plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st)
+    plain_parts.predictor.pantograph_predictor(0, batch.scalars, sh, batch.runs, st, batch.scratch)
+    pan = batch.scratch.pantograph  # filled in place
     pan.delta_lin[:] = [1e-3, -2e-3]
     plain_parts.update.converged_at_predictor(0, 2, batch.scalars, sh, st, w, sc, pan)
     assert np.array_equal(st.r[:, 0], c.s * w.linear[:, 0]) and np.all(w.delta[:, 0] == 0.0)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from presag_opt.dynamics.batch.predictor import PantographStep
+from presag_opt.dynamics.batch.kernel_data import PantographStep
 
 
 def _setup(batch, dofs, seed):
