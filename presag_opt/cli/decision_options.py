@@ -117,7 +117,7 @@ def add_decision_options(parser: argparse.ArgumentParser, *, simulated: str, dyn
     if dynamic_robust:
         g.add_argument("--dynamic-robust", action="store_true",
                        help=f"also run the dynamic robust design of the band on {simulated} and decide with it (the "
-                            "decision is then final); about a minute for the case study on an idle 2-core machine")
+                            "decision is then final); about half a minute for the case study on an idle 2-core machine")
 
 
 def add_numerics_options(parser: argparse.ArgumentParser) -> None:
@@ -204,7 +204,7 @@ def announce_dynamic(args: argparse.Namespace, catenary, band, pantograph, where
     cost = dynamic_cost(catenary, pantograph, simulated, workers=workers_of(args))
     print(f"presag: the dynamic robust design of {where} at {simulated.speed_low / KMH:.0f}–"
           f"{simulated.speed_high / KMH:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
-          "(about a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)
+          "(about half a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)
 
 
 def print_decision(lines: list[str]) -> None:

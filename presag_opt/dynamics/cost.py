@@ -7,10 +7,13 @@ magnitude from the plans alone (no form-finding), and :func:`check_run_size` ref
 numerics that need elements below :data:`MIN_AUTO_ELEMENT_LENGTH`, or work whose memory exceeds
 the machine's, with one line naming the setting that makes it feasible.
 
-The rates are measured on a 2-core 2026 virtual machine with other work running (about twice the
-time of an idle machine), on ST 9,8/9,8 with the case-study pantograph at 160 and 250 km/h: a
-single run 1.4–2.4 µs per node and step, a batch 0.13 µs per run, node and step (after the
-compilation of its kernel, about 20 s once per machine); a form-finding peak of about 21 kB per node
+The single-run rate is measured on a 2-core 2026 virtual machine with other work running (about
+twice the time of an idle machine), on ST 9,8/9,8 with the case-study pantograph at 160 and
+250 km/h: 1.4–2.4 µs per node and step. The batch rate is twice what whole commands take on an
+idle 2-core AMD EPYC virtual machine (December 2026, caches warm, two workers): 0.017 µs per run,
+node and step for the paper's 400-run grid (42 s), 0.016 µs for the dynamic Monte Carlo's 100
+realisations (172 s) and 0.024 µs for ``presag robust --dynamic`` (19 s), form-findings and pool
+start-up included (the kernel's first compilation, about 10 s once per machine, is not); a form-finding peak of about 21 kB per node
 (179 MB at 2 413 nodes, 379 MB at 12 013), a single run's histories about 16 bytes per node and step
 (560 MB at 3 853 nodes × 3 532 steps, 960 MB at 7 653 × 4 633). They are an order of magnitude,
 not a promise.
@@ -34,7 +37,7 @@ MIN_AUTO_ELEMENT_LENGTH = 0.05
 SINGLE_SECONDS_PER_NODE_STEP = 2.0e-6
 """Wall time of a single run per node and time step. [s]"""
 
-BATCH_SECONDS_PER_NODE_STEP = 1.5e-7
+BATCH_SECONDS_PER_NODE_STEP = 5e-8
 """Wall time of a batch per run, node and time step. [s]"""
 
 BASE_MEMORY = 0.4e9

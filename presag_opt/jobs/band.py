@@ -139,7 +139,7 @@ def recommend(
     study : str or Path, optional
         A stored validity study (``presag sweep``).
     dynamic_robust : bool
-        Also run the dynamic robust design of the first model (about a minute for the case study).
+        Also run the dynamic robust design of the first model (about half a minute for the case study).
     method : {"delta-e", "mid-mast"}
         Variant of the quasi-static rule.
     force_levels : sequence of float, optional
@@ -293,7 +293,7 @@ def dynamic_robust_design(
     progress: Callable[[str], None] | None = None,
 ) -> BandAnswer:
     r"""The parabolic pre-sag chosen by simulation over the band's static forces × speeds, and the band's
-    decision made with it: the job of ``presag robust --dynamic`` (about a minute for the case study on
+    decision made with it: the job of ``presag robust --dynamic`` (about half a minute for the case study on
     two cores).
 
     Parameters

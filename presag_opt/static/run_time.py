@@ -6,10 +6,11 @@ from presag_opt.static import cache
 from presag_opt.static.discretisation import StaticSettings, discretise
 from presag_opt.system.catenary import Catenary
 
-FORM_FIND_SECONDS = (1.5, 8.5, 12_000, 1.4)
+FORM_FIND_SECONDS = (0.3, 2.7, 12_000, 1.4)
 """Rough wall time of :func:`form_find` on one core of a 2-core 2026 virtual machine, as
-a + b·(n/n_ref)^p with n the node count: measured 3 s at 2 400 nodes, 4 s at 4 800, 15 s at 12 000
-(ST 9,8/9,8 ideal at 0.5, 0.25 and 0.1 m elements). [s], [s], [-], [-]"""
+a + b·(n/n_ref)^p with n the node count: measured 0.59 s at 2 413 nodes, 1.14 s at 4 813, 3.03 s at
+12 013 (ST 9,8/9,8 ideal at 0.5, 0.25 and 0.1 m elements, each the first form-finding of a fresh
+process without the cache; AMD EPYC, December 2026; the fit gives 0.58, 1.06 and 3.0 s). [s], [s], [-], [-]"""
 
 
 def form_find_estimate(catenary: Catenary, settings: StaticSettings | None = None) -> tuple[int, float]:

@@ -130,7 +130,7 @@ def test_the_near_critical_warning_is_one_line_and_in_the_json(presag, tmp_path)
 @pytest.mark.e2e
 @pytest.mark.parametrize("args", [
     ["simulate", "--case", "case_study_st98", "--speed", "200", "--element-length", "0.1", "--time-step", "0.5"],
-    ["sweep", "paper_grid_st98", "--out", "{tmp}/paper.nc", "--workers", "2"],
+    ["sweep", "paper_grid_st98_auto", "--out", "{tmp}/paper.nc", "--workers", "2"],
     ["tolerance", "--monte-carlo", "--dynamic", "--dropper-error", "5"],
 ], ids=["simulate", "sweep", "tolerance-monte-carlo"])
 def test_long_work_is_announced_before_it_starts(args, tmp_path):
