@@ -426,7 +426,7 @@ def kernel_part(function: Callable, python_call: Callable | None = None) -> Disp
     callers, where LLVM optimises it with them: no Python entry point and no C wrapper is built for it
     (those were a third of the kernel's compile time), and neither machine code nor a module-level
     optimisation of its own (:class:`PartLibrary`: the kernel's cold compile about 10 % shorter). A
-    part counts no references and allocates nothing (:data:`PART_OPTIONS`: a batch about 14 % faster).
+    part counts no references and allocates nothing (:data:`PART_OPTIONS`: a batch about 15 % faster).
     Called from Python it runs ``python_call``, the same computation for Python (for a part that numba
     alone can run), or, without one, raises TypeError.
     Not cached on its own: its callers' caches cover its file. Under ``NUMBA_DISABLE_JIT`` it is
