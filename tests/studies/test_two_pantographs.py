@@ -18,14 +18,20 @@ from presag_opt.studies.work import UnitResult
 from presag_opt.system.catenary import SpanLayout
 from presag_opt.units import KMH
 
-LEADING_TOLERANCE = 0.04
-"""Leading pantograph of a far-apart pair against the single one, relative σ: measured −1.9 % at
-480 m on 21 spans; the coarse numerics (1 m, 4 ms) scatter σ by a few per cent (the single
-pantograph's own σ differs by 6 % between a 15- and a 21-span section). [-]"""
+LEADING_TOLERANCE = 0.08
+"""Leading pantograph of a far-apart pair against the single one, relative σ, at 480 m on 21 spans:
+measured −1.9 % on a 2-core Xeon and +5.8 % on a 2-core AMD EPYC with the same code. The coarse
+numerics (1 m, 4 ms) at 180 km/h make σ follow the processor's round-off (its BLAS kernels) by a few
+per cent: on the EPYC the leading σ is +3.4 % and +0.9 % at 120 and 300 m, and the single
+pantograph's own σ differs by 6 % between a 15- and a 21-span section. [-]"""
 
-TRAILING_TOLERANCE = 0.05
-"""Trailing pantograph 480 m behind against the single one, relative σ: measured −2.9 %; the bound
-fails for a disturbed wire (+59 % at 120 m, +18 % at 300 m, +7 % at 360 m, measured). [-]"""
+TRAILING_TOLERANCE = 0.08
+"""Trailing pantograph 480 m behind against the single one, relative σ: measured −2.9 % (Xeon) and
+−4.2 % (EPYC); a disturbed wire lies outside (+59 % and +66 % at 120 m, +18 % at 300 m). [-]"""
+
+DISTURBED_EXCESS = 0.3
+"""Least relative excess of the trailing pantograph's σ over the single one's at 120 m behind, where
+it meets the leading one's waves: measured +59 % (Xeon) and +66 % (EPYC). [-]"""
 
 
 def _one_point(small_study, spans: int, spacing: float | None):
@@ -126,15 +132,19 @@ def test_the_analysis_reads_the_chosen_pantograph(make_dataset):
 @pytest.mark.slow
 def test_far_behind_the_pantographs_approach_the_single_one(small_study):
     """21 spans, the second pantograph 480 m behind (9.6 s at 180 km/h): the leading one sees
-    the single pantograph's wire, and the trailing one a wire whose swinging has decayed."""
+    the single pantograph's wire, and the trailing one a wire whose swinging has decayed; 120 m
+    behind, the trailing one meets a swinging wire."""
     single = run_in_process(_one_point(small_study, 21, None))
     pair = run_in_process(_one_point(small_study, 21, 480.0))
+    near = run_in_process(_one_point(small_study, 21, 120.0))
     one = float(single["sigma"].values.ravel()[0])
     lead = float(pair["sigma"].values.ravel()[0])
     trail = float(pair["trailing_sigma"].values.ravel()[0])
     assert math.isfinite(one) and one > 0
     assert lead == pytest.approx(one, rel=LEADING_TOLERANCE)
     assert trail == pytest.approx(one, rel=TRAILING_TOLERANCE)
+    # the contrast: 120 m behind, the trailing pantograph still meets the leading one's waves
+    assert float(near["trailing_sigma"].values.ravel()[0]) > (1.0 + DISTURBED_EXCESS) * one
     # F_m is set by the static and aerodynamic force: within 1 % (measured 0.8 %)
     assert float(pair["trailing_F_m"].values.ravel()[0]) == pytest.approx(float(single["F_m"].values.ravel()[0]),
                                                                         rel=0.02)
