@@ -6,10 +6,10 @@ Run from the repository root::
 
 Make the base tree with ``git worktree add /tmp/base BASE``. Each tree runs ``python -m presag_opt.cli
 sweep paper_grid_st98 --out STORE --workers N --quiet`` with ``PYTHONPATH=<tree>`` from the tree's
-folder and caches of its own (``XDG_CACHE_HOME``, ``NUMBA_CACHE_DIR``), which one untimed
-``presag simulate`` and one untimed sweep per tree fill first (the compiled kernel and the grid's five
-form-found states: the issue's "caches warm"; 3d2ddf8's cold form-findings add about 36 s to a
-round, which a first timed round would mix into the ratio). The trees alternate, ``--repeat`` rounds.
+folder and caches of its own (``XDG_CACHE_HOME``, ``NUMBA_CACHE_DIR``), which one untimed sweep per
+tree fills first (the compiled kernel and the grid's five form-found states: the issue's "caches
+warm"; 3d2ddf8's cold form-findings add about 36 s to a round, which a first timed round would mix
+into the ratio). The trees alternate, ``--repeat`` rounds.
 Printed: every run's wall time, the medians, the ratio this / base (target: at most 0.5, twice as
 fast), the largest relative difference of σ and F_m between the two trees' stores, and the load
 average before and after.
@@ -75,10 +75,7 @@ def main() -> int:
     targets = Targets()
     with tempfile.TemporaryDirectory(prefix="bench_grid_") as folder:
         caches = {name: Path(folder) / f"caches_{name}" for name in trees}
-        for name, tree in trees.items():  # compile the kernel into each tree's cache, untimed
-            _command(tree, caches[name], ["simulate", "--case", "case_study_st98", "--speed", "80",
-                                          "--static-force", "100", "--quiet"])
-        for name, tree in trees.items():  # one untimed sweep: the grid's form-findings into the cache
+        for name, tree in trees.items():  # one untimed sweep: the compiled kernel and the form-found states
             _command(tree, caches[name], ["sweep", "paper_grid_st98", "--out", str(Path(folder) / f"warm_{name}.nc"),
                                           "--workers", str(args.workers), "--quiet"])
 

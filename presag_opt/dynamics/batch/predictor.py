@@ -22,7 +22,8 @@ newmark_predictor = kernel_part(assembly.newmark_predictor)
 @kernel_part
 def pantograph_predictor(b, scalars, shared, runs, state, scratch):
     """Run ``b``'s pantograph predictors, right-hand side (uplift on the heads), C ṽ + K ũ, g and
-    δ_lin, into ``scratch.pantograph`` (a :class:`~presag_opt.dynamics.batch.kernel_data.PantographStep`).
+    δ_lin, into ``scratch.pantograph`` (a
+    :class:`~presag_opt.dynamics.batch.kernel_data.PantographStep`).
 
     Parameters
     ----------
@@ -59,8 +60,9 @@ def pantograph_predictor(b, scalars, shared, runs, state, scratch):
 
 @kernel_part
 def predictor_state(b, step, shared, runs, state, work, scratch, pan):
-    """Run ``b``'s droppers at the predictor (into ``scratch.droppers``, a :class:`~presag_opt.dynamics.batch.kernel_data.DropperStep`;
-    ``scratch.stretch`` and ``.rate`` set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
+    """Run ``b``'s droppers at the predictor (into ``scratch.droppers``, a
+    :class:`~presag_opt.dynamics.batch.kernel_data.DropperStep`; ``scratch.stretch`` and ``.rate``
+    set too) and its contact nodes and pantograph DOFs at the predictor in ``scratch``.
 
     Parameters
     ----------

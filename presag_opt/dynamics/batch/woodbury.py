@@ -130,12 +130,12 @@ def woodbury_correction(b, s, count, n_phi, taken, shared, work, scratch, pan):
     n = shared.mass.shape[0]
     woodbury_target(b, s, count, n_phi, taken, shared, work, scratch, pan)
     x, y = scratch.target, scratch.correction
-    capacitance = scratch.capacitance[:count * count].reshape((count, count))  # by columns, as LAPACK takes
-    for i in range(count):  # it: capacitance[m, i] is entry (i, m); I to start
-        y[i] = 0.0
-        for m in range(count):
-            capacitance[m, i] = 0.0
+    # I + ..., by columns as LAPACK takes it: capacitance[m, i] is entry (i, m)
+    capacitance = scratch.capacitance[:count * count].reshape((count, count))
+    capacitance[:, :] = 0.0
+    for i in range(count):
         capacitance[i, i] = 1.0
+    y[:count] = 0.0
     for i in range(count):
         for k in range(count):
             t = s * tangent[i, k]
