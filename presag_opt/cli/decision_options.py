@@ -203,8 +203,8 @@ def announce_dynamic(args: argparse.Namespace, catenary, band, pantograph, where
     simulated = simulated_band(band)
     cost = dynamic_cost(catenary, pantograph, simulated, workers=workers_of(args))
     print(f"presag: the dynamic robust design of {where} at {simulated.speed_low / KMH:.0f}–"
-          f"{simulated.speed_high / KMH:.0f} km/h: {cost.describe()}, plus its quasi-static robust design "
-          "(about half a minute for the case study on an idle 2-core machine)", file=sys.stderr, flush=True)
+          f"{simulated.speed_high / KMH:.0f} km/h: {cost.describe()}, after its quasi-static robust design",
+          file=sys.stderr, flush=True)
 
 
 def print_decision(lines: list[str]) -> None:

@@ -327,14 +327,14 @@ def _dynamic(catenary: Catenary, band: OperatingBand, study: RobustStudy, presag
              pantograph, grid_points: tuple[int, int], samples: int, seed: int, workers: int, store,
              announce, progress) -> ToleranceAnswer:
     """The dynamic Monte Carlo of the design: its cost announced, then every realisation simulated."""
-    from presag_opt.dynamics.cost import WorkEstimate, estimate_runs, work_notice
+    from presag_opt.dynamics.cost import work_notice
     from presag_opt.dynamics.pantograph import Pantograph, load_pantograph
-    from presag_opt.dynamics.run_plan import plan_run
     from presag_opt.dynamics.settings import SimulationSettings
     from presag_opt.pipeline.band import CASE_STUDY_PANTOGRAPH
     from presag_opt.robust import OperatingGrid
     from presag_opt.robust.dynamic_monte_carlo import dynamic_monte_carlo
     from presag_opt.robust.dynamic_study import simulated_band
+    from presag_opt.robust.operating_grid import band_work
 
     simulated = simulated_band(band)
     grid = OperatingGrid.from_band(simulated, static_points=int(grid_points[0]), speed_points=int(grid_points[1]))
@@ -342,15 +342,7 @@ def _dynamic(catenary: Catenary, band: OperatingBand, study: RobustStudy, presag
     panto = chosen if isinstance(chosen, Pantograph) else load_pantograph(chosen)
     settings = SimulationSettings(numerics="auto")
     if announce:
-        # each realisation is one form-finding (a re-solve, costed as one) and one batch over the grid,
-        # shared out over the workers
-        plans = [plan_run(catenary, panto, speed=v, static_force=f, aero_coefficient=simulated.aero_coefficient,
-                          settings=settings) for f in grid.static_forces for v in grid.speeds]
-        one, realisations = estimate_runs(catenary, plans, batch=True), samples + 1
-        share = realisations / max(1, min(workers, realisations))
-        text = work_notice(WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
-                                        runs=realisations * one.runs, run_seconds=share * one.run_seconds,
-                                        memory=one.memory * min(workers, realisations)))
+        text = work_notice(band_work(catenary, panto, grid, evaluations=samples + 1, workers=workers, settings=settings))
         if text:
             announce(text)
     result = dynamic_monte_carlo(catenary, panto, grid, presag_rel, errors, samples=samples, seed=seed,

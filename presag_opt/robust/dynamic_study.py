@@ -24,9 +24,8 @@ from presag_opt.design.band import KMH, OperatingBand
 from presag_opt.design.decision import DELTA_E_RULE, DYNAMIC_ROBUST, QUASI_STATIC_ROBUST
 from presag_opt.design.evidence import DynamicRobust
 from presag_opt.design.speed_range import speed_context
-from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
+from presag_opt.dynamics.cost import WorkEstimate
 from presag_opt.dynamics.pantograph import Pantograph
-from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.robust.band_evaluation import BandEvaluator, BandStatistics
 from presag_opt.robust.dynamic_design import (
@@ -38,7 +37,7 @@ from presag_opt.robust.dynamic_design import (
     dynamic_robust_presag,
     dynamic_tolerance,
 )
-from presag_opt.robust.operating_grid import OperatingGrid
+from presag_opt.robust.operating_grid import OperatingGrid, band_work
 from presag_opt.robust.scenarios import Risk
 from presag_opt.robust.study import RobustStudy, robust_study
 from presag_opt.robust.tolerance import check_within
@@ -85,13 +84,7 @@ def dynamic_cost(catenary: Catenary, pantograph: Pantograph, band: OperatingBand
         Processes simulating pre-sags side by side. [-]
     """
     grid = OperatingGrid.from_band(band, static_points=static_points, speed_points=speed_points)
-    settings = SimulationSettings(numerics="auto")
-    plans = [plan_run(catenary, pantograph, speed=v, static_force=f, aero_coefficient=band.aero_coefficient,
-                      settings=settings) for f in grid.static_forces for v in grid.speeds]
-    one = estimate_runs(catenary, plans, batch=True)
-    share = TYPICAL_PRESAGS / max(1, min(workers, 2))
-    return WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
-                        runs=TYPICAL_PRESAGS * one.runs, run_seconds=share * one.run_seconds, memory=one.memory)
+    return band_work(catenary, pantograph, grid, evaluations=TYPICAL_PRESAGS, workers=workers)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -2,9 +2,9 @@
 
 Holds :class:`OperatingGrid` (static forces × speeds, evenly spaced over an
 :class:`~presag_opt.design.band.OperatingBand`, with trapezoidal weights for means over the band),
-its checks against a catenary before any work starts, and :func:`band_static_settings`, the one
-discretisation every run of a band shares. The simulation of a design on the grid is
-:mod:`presag_opt.robust.band_evaluation`.
+its checks against a catenary before any work starts, :func:`band_static_settings`, the one
+discretisation every run of a band shares, and :func:`band_work`, the cost announced for simulating
+designs on the grid. The simulation of a design on the grid is :mod:`presag_opt.robust.band_evaluation`.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presag_opt.design.band import KMH, OperatingBand, mean_contact_force
+from presag_opt.dynamics.cost import WorkEstimate, estimate_runs
 from presag_opt.dynamics.pantograph import Pantograph
 from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import OperatingPoint, SimulationSettings
@@ -167,3 +168,43 @@ def band_static_settings(catenary: Catenary, speeds, settings: SimulationSetting
     wave_speed = catenary.contact_wire.wave_speed
     finest = min(settings.for_speed(v, wave_speed).static.element_length for v in speeds)
     return dataclasses.replace(settings.static, element_length=finest)
+
+
+def band_work(catenary: Catenary, pantograph: Pantograph, grid: OperatingGrid, *, evaluations: int, workers: int,
+              settings: SimulationSettings | None = None) -> WorkEstimate:
+    """Rough cost of simulating ``evaluations`` catenaries (pre-sags or realisations) on the grid, as
+    :mod:`presag_opt.robust.band_evaluation` and the dynamic Monte Carlo do it: one form-finding and
+    one batch each, every run on the band's shared discretisation (:func:`band_static_settings`) at
+    the time step of its own speed, side by side in up to ``workers`` processes.
+
+    Parameters
+    ----------
+    catenary : Catenary
+        The system simulated (its nodes are counted at the shared element length).
+    pantograph : Pantograph
+        The pantograph.
+    grid : OperatingGrid
+        Static forces × speeds. [N], [m/s]
+    evaluations : int
+        Catenaries simulated on the whole grid. [-]
+    workers : int
+        Processes simulating them side by side. [-]
+    settings : SimulationSettings, optional
+        Numerical settings of the runs (default: automatic numerics).
+
+    Returns
+    -------
+    WorkEstimate
+        Wall time shared out over the processes; memory of the processes together.
+    """
+    settings = settings or SimulationSettings(numerics="auto")
+    plans = [plan_run(catenary, pantograph, speed=p.speed, static_force=p.static_force,
+                      aero_coefficient=p.aero_coefficient, settings=settings) for p in grid.points()]
+    static = band_static_settings(catenary, grid.speeds, settings)  # after the plans' checks of every speed
+    plans = [dataclasses.replace(p, settings=dataclasses.replace(p.settings, static=static)) for p in plans]
+    one = estimate_runs(catenary, plans, batch=True)
+    side_by_side = max(1, min(workers, evaluations))
+    share = evaluations / side_by_side
+    return WorkEstimate(nodes=one.nodes, form_finding_seconds=share * one.form_finding_seconds,
+                        runs=evaluations * one.runs, run_seconds=share * one.run_seconds,
+                        memory=one.memory * side_by_side)

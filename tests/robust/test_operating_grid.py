@@ -6,10 +6,13 @@ import numpy as np
 import pytest
 
 from presag_opt.design.band import KMH, OperatingBand
+from presag_opt.dynamics.cost import BATCH_SECONDS_PER_NODE_STEP
 from presag_opt.dynamics.pantograph import load_pantograph
+from presag_opt.dynamics.run_plan import plan_run
 from presag_opt.dynamics.settings import SimulationSettings
 from presag_opt.errors import ModelError
-from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings
+from presag_opt.robust.operating_grid import OperatingGrid, band_static_settings, band_work
+from presag_opt.static.run_time import form_find_estimate
 from presag_opt.system.loader import load_catenary
 
 CATENARY = load_catenary("st_9.8_ideal")
@@ -80,3 +83,25 @@ def test_one_discretisation_fine_enough_for_the_fastest_speed():
     assert band_static_settings(CATENARY, (50 * KMH, 180 * KMH), auto).element_length == 0.28
     fixed = SimulationSettings().with_fixed_numerics(element_length=0.3)
     assert band_static_settings(CATENARY, (50 * KMH, 180 * KMH), fixed).element_length == 0.3
+
+
+def test_the_announced_cost_puts_every_run_on_the_one_shared_discretisation():
+    grid = OperatingGrid.from_band(band(), static_points=4, speed_points=3)
+    auto = SimulationSettings(numerics="auto")
+    static = band_static_settings(CATENARY, grid.speeds, auto)
+    nodes, form_seconds = form_find_estimate(CATENARY, static)
+    steps = 0
+    for p in grid.points():
+        plan = plan_run(CATENARY, PANTOGRAPH, speed=p.speed, static_force=p.static_force,
+                        aero_coefficient=p.aero_coefficient, settings=auto)
+        steps += plan.step_count(plan.settings.integrator.time_step)  # each speed keeps its own time step
+    one = band_work(CATENARY, PANTOGRAPH, grid, evaluations=1, workers=1)
+    # one form-finding at the fastest speed's 0.44 m, not one per speed (0.5, 0.47 and 0.44 m)
+    assert one.nodes == (nodes,)
+    assert one.form_finding_seconds == pytest.approx(form_seconds, rel=1e-12)
+    assert one.run_seconds == pytest.approx(BATCH_SECONDS_PER_NODE_STEP * nodes * steps, rel=1e-12)
+    seven = band_work(CATENARY, PANTOGRAPH, grid, evaluations=7, workers=2)
+    assert seven.runs == 7 * 12
+    assert seven.run_seconds == pytest.approx(3.5 * one.run_seconds, rel=1e-12)
+    assert seven.form_finding_seconds == pytest.approx(3.5 * one.form_finding_seconds, rel=1e-12)
+    assert seven.memory == pytest.approx(2 * one.memory, rel=1e-12)
