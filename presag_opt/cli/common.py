@@ -24,6 +24,7 @@ import math
 import os
 import sys
 import tempfile
+import threading
 import time
 import traceback
 import warnings
@@ -62,6 +63,9 @@ _SHOWN_WARNINGS: contextvars.ContextVar[dict[str, None]] = contextvars.ContextVa
 
 PROGRESS_DELAY = 2.0
 """Seconds of work before a progress display appears (shorter work shows none). [s]"""
+
+PROGRESS_TICK = 1.0
+"""Seconds between redraws of a shown progress display (its elapsed time). [s]"""
 
 GRAMMAR = """\
 command-line grammar:
@@ -190,8 +194,11 @@ class Progress:
     callbacks: ``Callable[[str], None]``); it shows the message, the steps done of ``total`` if
     known (else the message alone, which carries its own count) and the elapsed time. It is the only
     place that draws progress: the library only calls back.
-    Shown only after :data:`PROGRESS_DELAY` and only when :func:`progress_enabled`; use it as a
-    context manager so that the bar is closed. Standard output is untouched (JSON stays pure).
+    Shown only after :data:`PROGRESS_DELAY` and only when :func:`progress_enabled`: once the delay has
+    passed, a background thread draws the last message and redraws the elapsed time every
+    :data:`PROGRESS_TICK`, so that a long first step (the first four units of a sweep) shows at once
+    too. Use it as a context manager so that the bar and its thread are closed. Standard output is
+    untouched (JSON stays pure).
 
     Parameters
     ----------
@@ -211,18 +218,42 @@ class Progress:
                          bar_format="{desc}: {n_fmt}/{total_fmt} steps [{elapsed}]" if total else "{desc} [{elapsed}]")
         self._shown_after = time.monotonic() + delay
         self._started = False
+        self._lock = threading.Lock()
+        self._closed = threading.Event()
+        self._ticker = None
+        if enabled:
+            self._ticker = threading.Thread(target=self._tick, args=(delay,), name="presag-progress", daemon=True)
+            self._ticker.start()
 
     def __call__(self, message: str) -> None:
-        if self._started:
-            self._bar.update(1)
-        self._started = True
-        # tqdm's own refresh would ignore the delay; short work shows nothing
-        self._bar.set_description_str(message, refresh=time.monotonic() >= self._shown_after)
+        with self._lock:
+            if self._started:
+                self._bar.update(1)
+            self._started = True
+            # tqdm's own refresh would ignore the delay; short work shows nothing
+            self._bar.set_description_str(message, refresh=time.monotonic() >= self._shown_after)
+
+    def _tick(self, delay: float) -> None:
+        """Draw the display when the delay has passed, then redraw it every :data:`PROGRESS_TICK`."""
+        if self._closed.wait(delay):
+            return
+        while True:
+            with self._lock:
+                if self._closed.is_set():
+                    return
+                if self._started:
+                    self._bar.refresh()
+            if self._closed.wait(PROGRESS_TICK):
+                return
 
     def __enter__(self) -> Progress:
         return self
 
     def __exit__(self, *exc: object) -> None:
+        with self._lock:
+            self._closed.set()
+        if self._ticker is not None:
+            self._ticker.join()
         self._bar.close()
 
 

@@ -9,6 +9,7 @@ import errno
 import json
 import math
 import sys
+import threading
 import warnings
 from pathlib import Path
 
@@ -37,6 +38,33 @@ def test_progress_shows_only_after_its_delay_and_on_a_terminal(capsys, monkeypat
     with progress(argparse.Namespace(quiet=True, progress=False)) as quiet:
         quiet("form-finding")
     assert capsys.readouterr().err == ""
+
+
+def test_a_shown_progress_display_redraws_itself_between_messages(monkeypatch):
+    """A long step (the first four units of a sweep) must not leave the display blank: once shown, the
+    display is redrawn with its last message and elapsed time without a new message."""
+    drawn = threading.Event()
+
+    class Terminal:
+        def __init__(self):
+            self.text = []
+
+        def write(self, text):
+            self.text.append(text)
+            if sum("first unit" in t for t in self.text) >= 3:  # the call draws it once; the rest is the ticker
+                drawn.set()
+            return len(text)
+
+        def flush(self):
+            pass
+
+    terminal = Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.setattr(common, "PROGRESS_TICK", 0.01)
+    with Progress(True, delay=0.0) as shown:
+        shown("first unit")
+        assert drawn.wait(timeout=60)
+    assert shown._ticker is not None and not shown._ticker.is_alive()  # closed with the display
 
 
 def test_an_unexpected_error_is_one_line_without_a_traceback(capsys, monkeypatch):
