@@ -17,7 +17,8 @@ analysis window (``case_study_st98``), F_stat 70–140 N × 50–90 km/h on a 4 
    dynamic robust design of the case study (45.1 mm on 60 m, docs/robust.md), each re-solved and
    simulated at the 12 points; distributions of the worst σ/F_m, smallest F_m − 3σ and largest
    uplift; cost per realisation and the time 100 would take with the workers given. Target: 100
-   realisations in at most 10 minutes (checked on the extrapolation when N < 100). ``--dynamic``
+   realisations in at most 4 minutes (issue 35; issue 23 had asked for 10; checked on the extrapolation
+   when N < 100). ``--dynamic``
    runs this part only, with ``--samples N`` realisations (default 100: the issue's case, timed
    from the start of the Monte Carlo to its end, nominal design and worker start-up included).
    The realisations of a task share the design's structure in one batch (chunk 4).
@@ -51,7 +52,7 @@ from presag_opt.system.loader import load_catenary
 QS_TARGET_S = 10.0
 """Wall time allowed for 10 000 quasi-static realisations. [s]"""
 
-DYNAMIC_TARGET_S = 600.0
+DYNAMIC_TARGET_S = 240.0
 """Wall time allowed for 100 dynamic realisations on the 12-point grid. [s]"""
 
 CASE_BAND = OperatingBand(static_force_low=70.0, static_force_high=140.0, speed_low=50 * KMH, speed_high=90 * KMH,
