@@ -38,6 +38,14 @@ STATUS_NOT_FINITE = 2
 PIECE_SIZE = 6
 """Most DOFs one force contribution acts on (a dropper's six; a contact's three). [-]"""
 
+SWEPT_ARRAYS = ("u", "v", "q", "r", "delta", "linear")
+"""The [DOF, lane] arrays the sweeps read and write row by row (:class:`RunState` and :class:`Work`),
+in the order of their places in a 4 KiB page (:func:`swept_array`). [-]"""
+
+SWEPT_ARRAY_STAGGER = 704
+"""Distance between the starts of consecutive :data:`SWEPT_ARRAYS` within a 4 KiB page: eleven
+64-byte cache lines, so that the six spread evenly over the page (576 bytes or more apart). [B]"""
+
 
 class Scalars(NamedTuple):
     """The numbers all runs of a batch share.
@@ -271,6 +279,34 @@ def make_scratch(shared: Shared) -> Scratch:
     )
 
 
+def swept_array(name: str, n: int, lanes: int) -> np.ndarray:
+    """A zeroed, C-ordered [DOF, lane] array of the sweeps that starts at its own place in a 4 KiB page.
+
+    Large arrays from numpy all start at the same offset within a page, so row j of one lies at the
+    same address modulo 4 KiB as row j of every other. The processor then takes a load of one (u, v,
+    r) for one that may depend on the store just made to another (delta, linear) and waits for it: "4K
+    aliasing". Placing each at its own offset, :data:`SWEPT_ARRAY_STAGGER` apart, made the paper grid's
+    10-run batch 3.0–3.3 s instead of 3.5–3.7 s and the case-study decision's 12 runs 4.1–4.4 s instead
+    of 4.5–4.9 s on a 2-core AMD EPYC (the same numbers to the last bit; ``benchmarks/bench_batch_rate.py``
+    times both batches). Aligning all six to the page's start instead, each row on whole cache lines
+    but the six again at one offset, gained nothing (3.5–3.6 s): the gain is the stagger's.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`SWEPT_ARRAYS`.
+    n : int
+        Catenary DOFs. [-]
+    lanes : int
+        Run dimension. [-]
+    """
+    page = 4096 // 8
+    buffer = np.zeros(n * lanes + 2 * page)
+    to_page = (-buffer.ctypes.data % 4096) // 8  # numpy aligns to 16 bytes at least, so a whole number of doubles
+    start = to_page + (SWEPT_ARRAYS.index(name) * SWEPT_ARRAY_STAGGER % 4096) // 8
+    return buffer[start:start + n * lanes].reshape(n, lanes)
+
+
 def make_work(shared: Shared, n_runs: int, lanes: int | None = None) -> Work:
     """The per-step work arrays of a batch; ``lanes`` (default ``n_runs``) is the run dimension of
     the arrays the sweeps read, padded for the compiled sweeps.
@@ -289,9 +325,9 @@ def make_work(shared: Shared, n_runs: int, lanes: int | None = None) -> Work:
     n_candidates = len(shared.candidate_rows)
     size = set_size(shared)
     return Work(
-        delta=np.zeros((n, lanes)),
+        delta=swept_array("delta", n, lanes),
         g=np.zeros((n_candidates, lanes)),
-        linear=np.zeros((n, lanes)),
+        linear=swept_array("linear", n, lanes),
         scale=np.zeros(lanes),
         first_residual=np.zeros(lanes),
         phi_count=np.zeros(n_runs, dtype=np.int64),

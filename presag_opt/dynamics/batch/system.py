@@ -32,6 +32,7 @@ from presag_opt.dynamics.batch.kernel_data import (
     Work,
     make_scratch,
     make_work,
+    swept_array,
 )
 from presag_opt.dynamics.laws import scheme_constants, suspension_elements
 from presag_opt.dynamics.pantograph import Pantograph
@@ -273,7 +274,7 @@ def kernel_arguments(state: EquilibriumState, system: BatchSystem, plans: list[R
     dropper_preload = np.zeros((n_runs, len(model.droppers)))
     c_sweeps = native_sweeps.sweeps()
     lanes = n_runs if c_sweeps is None else native_sweeps.lanes_for(n_runs)  # run dimension of the swept arrays
-    u = np.zeros((n, lanes))
+    u = swept_array("u", n, lanes)
     for b, (plan, line) in enumerate(zip(plans, lines, strict=True)):
         records = slice(0, n_steps[b] + 1)
         cw_height[b, system.position[model.cw_z]] = line.cw_height
@@ -320,7 +321,7 @@ def kernel_arguments(state: EquilibriumState, system: BatchSystem, plans: list[R
     runs = Runs(n_steps=n_steps, path_nodes=path_nodes, path_weights=path_weights, path_compliance=path_compliance,
                 head_height=head_height, uplift=uplift, cw_height=cw_height, dropper_preload=dropper_preload)
     n_p = len(fixed["pantograph_mass"])
-    run_state = RunState(u, np.zeros((n, lanes)), np.zeros((n, lanes)), np.zeros((n, lanes)),
+    run_state = RunState(u, swept_array("v", n, lanes), swept_array("q", n, lanes), swept_array("r", n, lanes),
                          *(np.zeros((n_p, n_runs)) for _ in range(4)))
     out = Records(
         contact_force=np.zeros((n_runs, n_pan, longest + 1)),

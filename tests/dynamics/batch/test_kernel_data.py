@@ -30,6 +30,27 @@ def test_the_work_arrays_take_the_padded_lanes(synthetic_batch):
     assert work.scale.shape == work.first_residual.shape == (8,)
     assert work.phi_count.shape == (3,) and work.phi_column.shape == work.phi_coefficient.shape == (3, kd.set_size(shared))
     assert kd.make_work(shared, 3).delta.shape == (6, 3)  # unpadded by default
+    places = {a.ctypes.data % 4096 for a in (work.delta, work.linear)}
+    assert places == {kd.swept_array(name, 6, 8).ctypes.data % 4096 for name in ("delta", "linear")}
+
+
+def test_the_swept_arrays_start_at_their_own_places_in_a_page():
+    """Each of the sweeps' [DOF, lane] arrays starts on a cache line at its own offset modulo 4 KiB
+    (no two rows j at the same address modulo 4 KiB: no 4K aliasing between their loads and stores)."""
+    for n, lanes in ((7182, 16), (8502, 8), (5, 3)):
+        arrays = [kd.swept_array(name, n, lanes) for name in kd.SWEPT_ARRAYS]
+        offsets = [a.ctypes.data % 4096 for a in arrays]
+        assert len(set(offsets)) == len(kd.SWEPT_ARRAYS)
+        assert min((b - a) % 4096 for a in offsets for b in offsets if a != b) >= 576
+        for a in arrays:
+            assert a.shape == (n, lanes) and a.flags.c_contiguous and a.ctypes.data % 64 == 0 and not a.any()
+    # a batch's own arguments: its state and work arrays are those, each at its own place
+    from presag_opt.dynamics.batch.first_use import sample_arguments
+
+    arguments = sample_arguments()
+    swept = [*arguments.state[:4], arguments.work.delta, arguments.work.linear]
+    places = [a.ctypes.data % 4096 for a in swept]
+    assert places == [kd.swept_array(name, *swept[0].shape).ctypes.data % 4096 for name in kd.SWEPT_ARRAYS]
 
 
 def test_the_statuses_are_distinct_and_ok_is_zero():
