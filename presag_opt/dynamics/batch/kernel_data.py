@@ -282,14 +282,14 @@ def make_scratch(shared: Shared) -> Scratch:
 def swept_array(name: str, n: int, lanes: int) -> np.ndarray:
     """A zeroed, C-ordered [DOF, lane] array of the sweeps that starts at its own place in a 4 KiB page.
 
-    Large arrays from numpy all start at the same offset within a page, so row j of one lies at the
-    same address modulo 4 KiB as row j of every other. The processor then takes a load of one (u, v,
-    r) for one that may depend on the store just made to another (delta, linear) and waits for it: "4K
-    aliasing". Placing each at its own offset, :data:`SWEPT_ARRAY_STAGGER` apart, made the paper grid's
-    10-run batch 3.0–3.3 s instead of 3.5–3.7 s and the case-study decision's 12 runs 4.1–4.4 s instead
-    of 4.5–4.9 s on a 2-core AMD EPYC (the same numbers to the last bit; ``benchmarks/bench_batch_rate.py``
-    times both batches). Aligning all six to the page's start instead, each row on whole cache lines
-    but the six again at one offset, gained nothing (3.5–3.6 s): the gain is the stagger's.
+    Large arrays from numpy start at one offset within a page (or wherever the allocator's history puts
+    them), so row j of one can lie at the same address modulo 4 KiB as row j of another. The processor
+    then takes a load of one (u, v, r) for one that may depend on the store just made to the other
+    (delta, linear) and waits for it: "4K aliasing". Placed :data:`SWEPT_ARRAY_STAGGER` apart, the
+    paper grid's 10-run batch took 2.9–3.1 s against 3.2–3.5 s, and the case-study decision's 12 runs
+    3.9–4.2 s against 4.2–4.6 s (side by side on a 2-core AMD EPYC, medians of 3 alternated twice; the
+    same numbers to the last bit). All six at a page's start instead (whole cache lines, one offset)
+    gained nothing: the gain is the stagger's.
 
     Parameters
     ----------
