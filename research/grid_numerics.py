@@ -53,7 +53,8 @@ LEAD_SPEEDS = (50, 90, 140, 180)
 def _run(base, presags_mm, speeds_kmh, *, time_step=None, lead_in=None):
     settings = base.settings
     if time_step is not None:
-        settings = dataclasses.replace(settings, integrator=dataclasses.replace(settings.integrator, time_step=time_step))
+        integrator = dataclasses.replace(settings.integrator, time_step=time_step)
+        settings = dataclasses.replace(settings, integrator=integrator)
     if lead_in is not None:
         settings = dataclasses.replace(settings, lead_in_spans=lead_in)
     grid = dataclasses.replace(base.grid, presags=tuple(s * 1e-3 for s in presags_mm),

@@ -14,9 +14,9 @@ idle 2-core AMD EPYC virtual machine (December 2026, caches warm, two workers): 
 node and step for the paper's 400-run grid (42 s), 0.016 µs for the dynamic Monte Carlo's 100
 realisations (172 s) and 0.024 µs for ``presag robust --dynamic`` (19 s), form-findings and pool
 start-up included (the kernel's first compilation, about 10 s once per machine, is not). Memory: a
-form-finding peak of about 21 kB per node (179 MB at 2 413 nodes, 379 MB at 12 013), a single run's histories about 16 bytes per node and step
-(560 MB at 3 853 nodes × 3 532 steps, 960 MB at 7 653 × 4 633). They are an order of magnitude,
-not a promise.
+form-finding peak of about 21 kB per node (179 MB at 2 413 nodes, 379 MB at 12 013), a single
+run's histories about 16 bytes per node and step (560 MB at 3 853 nodes × 3 532 steps, 960 MB at
+7 653 × 4 633). They are an order of magnitude, not a promise.
 """
 
 from __future__ import annotations

@@ -342,7 +342,8 @@ def _dynamic(catenary: Catenary, band: OperatingBand, study: RobustStudy, presag
     panto = chosen if isinstance(chosen, Pantograph) else load_pantograph(chosen)
     settings = SimulationSettings(numerics="auto")
     if announce:
-        text = work_notice(band_work(catenary, panto, grid, evaluations=samples + 1, workers=workers, settings=settings))
+        cost = band_work(catenary, panto, grid, evaluations=samples + 1, workers=workers, settings=settings)
+        text = work_notice(cost)
         if text:
             announce(text)
     result = dynamic_monte_carlo(catenary, panto, grid, presag_rel, errors, samples=samples, seed=seed,

@@ -42,8 +42,11 @@ SWEPT_ARRAYS = ("u", "v", "q", "r", "delta", "linear")
 """The [DOF, lane] arrays the sweeps read and write row by row (:class:`RunState` and :class:`Work`),
 in the order of their places in a 4 KiB page (:func:`swept_array`). [-]"""
 
+PAGE_BYTES = 4096
+"""The span of addresses within which a load is compared with earlier stores by their low bits (a 4 KiB page). [B]"""
+
 SWEPT_ARRAY_STAGGER = 704
-"""Distance between the starts of consecutive :data:`SWEPT_ARRAYS` within a 4 KiB page: eleven
+"""Distance between the starts of consecutive :data:`SWEPT_ARRAYS` within a :data:`PAGE_BYTES` page: eleven
 64-byte cache lines, so that the six spread evenly over the page (576 bytes or more apart). [B]"""
 
 
@@ -300,10 +303,10 @@ def swept_array(name: str, n: int, lanes: int) -> np.ndarray:
     lanes : int
         Run dimension. [-]
     """
-    page = 4096 // 8
-    buffer = np.zeros(n * lanes + 2 * page)
-    to_page = (-buffer.ctypes.data % 4096) // 8  # numpy aligns to 16 bytes at least, so a whole number of doubles
-    start = to_page + (SWEPT_ARRAYS.index(name) * SWEPT_ARRAY_STAGGER % 4096) // 8
+    double = 8
+    buffer = np.zeros(n * lanes + 2 * PAGE_BYTES // double)
+    to_page = (-buffer.ctypes.data % PAGE_BYTES) // double  # numpy aligns to 16 bytes at least: whole doubles
+    start = to_page + (SWEPT_ARRAYS.index(name) * SWEPT_ARRAY_STAGGER % PAGE_BYTES) // double
     return buffer[start:start + n * lanes].reshape(n, lanes)
 
 

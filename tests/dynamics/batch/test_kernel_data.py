@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from presag_opt.dynamics.batch import kernel_data as kd
+from presag_opt.dynamics.batch.first_use import sample_arguments
 
 
 def test_the_largest_set_counts_every_dof_a_force_can_reach(synthetic_batch):
@@ -45,8 +46,6 @@ def test_the_swept_arrays_start_at_their_own_places_in_a_page():
         for a in arrays:
             assert a.shape == (n, lanes) and a.flags.c_contiguous and a.ctypes.data % 64 == 0 and not a.any()
     # a batch's own arguments: its state and work arrays are those, each at its own place
-    from presag_opt.dynamics.batch.first_use import sample_arguments
-
     arguments = sample_arguments()
     swept = [*arguments.state[:4], arguments.work.delta, arguments.work.linear]
     places = [a.ctypes.data % 4096 for a in swept]
